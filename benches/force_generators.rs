@@ -1,0 +1,71 @@
+//! Cost of one evaluation of all KES force generators on a 100 × 100 grid (10 000 particles),
+//! including the shared link-geometry pass. Criterion reports time per evaluation and, through
+//! the element throughput, particles per second; ns per particle = 1e9 / (elements/s).
+//! Target (issue 2): ≤ 60 ns per particle on one core.
+
+use std::hint::black_box;
+use std::sync::Arc;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
+use kes_cloth::forces::{
+    Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, SeedSeparation,
+    Trellising,
+};
+use kes_cloth::material::Fabric;
+
+const N: usize = 100;
+const SIGMA: f64 = 0.005;
+
+fn draped_positions(topo: &ClothTopology) -> Vec<DVec3> {
+    // A gently waved, slightly sheared and stretched sheet: every spring is loaded.
+    topo.rest_positions(DVec3::ZERO, DVec3::X, DVec3::new(0.05, 0.0, 1.0).normalize())
+        .into_iter()
+        .map(|p| DVec3::new(p.x * 1.01, 0.01 * (p.x * 40.0).sin() * (p.z * 30.0).cos(), p.z))
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let fabric = Fabric::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/fabrics/thick_cotton.ron"
+    ))
+    .expect("fabric");
+    let topo = Arc::new(ClothTopology::rectangle(N, N, SIGMA));
+    let x = draped_positions(&topo);
+    let v = vec![DVec3::ZERO; x.len()];
+    let mut geo = ClothGeometry::new(topo.clone());
+    let mut f = ForceBuffer::new(&topo);
+    let bending = Bending::new(topo.clone(), &fabric);
+    let trellising = Trellising::new(topo.clone(), &fabric);
+    let kes = KesTensile::new(topo.clone(), &fabric);
+    let seed = SeedSeparation::new(topo.clone(), &fabric);
+
+    let mut group = c.benchmark_group("force_generators_100x100");
+    group.throughput(Throughput::Elements((N * N) as u64));
+    let sets: [(&str, Vec<&dyn ForceGenerator>); 7] = [
+        ("geometry_only", vec![]),
+        ("bending_trellising", vec![&bending, &trellising]),
+        ("all_kes_tensile", vec![&bending, &trellising, &kes]),
+        ("all_seed_separation", vec![&bending, &trellising, &seed]),
+        ("bending_only", vec![&bending]),
+        ("trellising_only", vec![&trellising]),
+        ("kes_tensile_only", vec![&kes]),
+    ];
+    for (name, gens) in sets {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                geo.update(black_box(&x));
+                f.clear();
+                for g in &gens {
+                    g.add_forces(&geo, &v, &mut f);
+                }
+                black_box(f.resolve(&topo));
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

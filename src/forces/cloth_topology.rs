@@ -1,0 +1,213 @@
+//! Which particles a woven grid connects: thread links, bending springs and trellis corners.
+//!
+//! Particles sit at the warp/weft crossings of a square grid of spacing σ. Grid index `i` runs
+//! along the warp, `j` along the weft. A grid may leave crossings out (a circular sample cut
+//! from a square); every spring whose particles all exist is kept. Topology is built once; the
+//! per-step force loops only read these flat index arrays.
+
+use crate::material::Thread;
+
+/// The springs of a woven particle grid, as flat index arrays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClothTopology {
+    /// σ, rest spacing between neighbouring crossings (m).
+    pub spacing: f64,
+    /// Number of particles.
+    pub particle_count: usize,
+    /// Grid coordinates `(i, j)` of each particle.
+    pub grid_coords: Vec<(u32, u32)>,
+    /// Thread links `[p, q]` between neighbours, oriented along increasing grid index; warp
+    /// links first (`..warp_link_count`), then weft links.
+    pub links: Vec<[u32; 2]>,
+    /// How many of `links` are warp links.
+    pub warp_link_count: usize,
+    /// Bending springs `[a, b, c]` with `b` in the middle, along one thread; warp first.
+    pub bend_particles: Vec<[u32; 3]>,
+    /// For each bending spring, the links `[a→b, b→c]` (both oriented along the grid).
+    pub bend_links: Vec<[u32; 2]>,
+    /// How many bending springs lie along the warp.
+    pub warp_bend_count: usize,
+    /// Crossings with all four neighbours, as their links `[+warp, +weft, −warp, −weft]`: the
+    /// first two leave the crossing, the last two arrive at it. Each holds four trellis corners,
+    /// which the trellis loop evaluates together so that each link is read and written once.
+    pub full_crossings: Vec<[u32; 4]>,
+    /// The trellis corners of all other crossings (at the cloth's edge), as `[a, b, c]`: `b`
+    /// the crossing, `a` its warp neighbour, `c` its weft neighbour.
+    pub corner_particles: Vec<[u32; 3]>,
+    /// For each corner, the warp link b–a and the weft link b–c, each as a [`SignedLink`]:
+    /// the link index, with [`SignedLink::REVERSED`] set when the neighbour is the link's
+    /// first particle (so `sign · unit[link]` points from `b` to the neighbour). Packing the
+    /// sign into the index keeps the hot loop's memory traffic at 8 bytes per corner.
+    pub corner_links: Vec<[SignedLink; 2]>,
+}
+
+/// A link index with a direction bit (see [`ClothTopology::corner_links`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SignedLink(pub u32);
+
+impl SignedLink {
+    /// The bit marking a link traversed from its second particle to its first.
+    pub const REVERSED: u32 = 1 << 31;
+
+    fn new(link: u32, reversed: bool) -> Self {
+        Self(link | if reversed { Self::REVERSED } else { 0 })
+    }
+
+    /// The link's index into `links`.
+    #[inline(always)]
+    pub fn index(self) -> usize {
+        (self.0 & !Self::REVERSED) as usize
+    }
+
+    /// +1 along the link's orientation, −1 against it.
+    #[inline(always)]
+    pub fn sign(self) -> f64 {
+        if self.0 & Self::REVERSED == 0 { 1.0 } else { -1.0 }
+    }
+}
+
+impl ClothTopology {
+    /// A full `nu × nv` grid (nu crossings along the warp, nv along the weft).
+    pub fn rectangle(nu: usize, nv: usize, spacing: f64) -> Self {
+        Self::from_mask(nu, nv, spacing, |_, _| true)
+    }
+
+    /// The crossings `(i, j)` of an `nu × nv` grid for which `keep(i, j)` holds, numbered in
+    /// row-major order (i slowest).
+    pub fn from_mask(nu: usize, nv: usize, spacing: f64, keep: impl Fn(usize, usize) -> bool) -> Self {
+        const NONE: u32 = u32::MAX;
+        let mut index = vec![NONE; nu * nv];
+        let mut grid_coords = Vec::new();
+        for i in 0..nu {
+            for j in 0..nv {
+                if keep(i, j) {
+                    index[i * nv + j] = grid_coords.len() as u32;
+                    grid_coords.push((i as u32, j as u32));
+                }
+            }
+        }
+        let at = |i: isize, j: isize| -> Option<u32> {
+            if i < 0 || j < 0 || i >= nu as isize || j >= nv as isize {
+                return None;
+            }
+            let p = index[i as usize * nv + j as usize];
+            (p != NONE).then_some(p)
+        };
+
+        // Links, oriented from (i, j) to (i+1, j) [warp] or (i, j+1) [weft].
+        let mut links = Vec::new();
+        let mut link_index = std::collections::HashMap::new();
+        for (thread, (di, dj)) in [(Thread::Warp, (1, 0)), (Thread::Weft, (0, 1))] {
+            for &(i, j) in &grid_coords {
+                let (i, j) = (i as isize, j as isize);
+                if let (Some(p), Some(q)) = (at(i, j), at(i + di, j + dj)) {
+                    link_index.insert((thread, p), links.len() as u32);
+                    links.push([p, q]);
+                }
+            }
+        }
+        let warp_link_count = link_index.keys().filter(|(t, _)| *t == Thread::Warp).count();
+        // The link leaving particle p in the + direction of `thread`.
+        let link_from = |thread: Thread, p: u32| link_index.get(&(thread, p)).copied();
+
+        let mut bend_particles = Vec::new();
+        let mut bend_links = Vec::new();
+        let mut warp_bend_count = 0;
+        for (thread, (di, dj)) in [(Thread::Warp, (1, 0)), (Thread::Weft, (0, 1))] {
+            for &(i, j) in &grid_coords {
+                let (i, j) = (i as isize, j as isize);
+                if let (Some(a), Some(b), Some(c)) = (at(i - di, j - dj), at(i, j), at(i + di, j + dj)) {
+                    if let (Some(l1), Some(l2)) = (link_from(thread, a), link_from(thread, b)) {
+                        bend_particles.push([a, b, c]);
+                        bend_links.push([l1, l2]);
+                        if thread == Thread::Warp {
+                            warp_bend_count += 1;
+                        }
+                    }
+                }
+            }
+        }
+
+        let mut full_crossings = Vec::new();
+        let mut corner_particles = Vec::new();
+        let mut corner_links = Vec::new();
+        for &(i, j) in &grid_coords {
+            let (i, j) = (i as isize, j as isize);
+            let Some(b) = at(i, j) else { continue };
+            let around = (at(i - 1, j), at(i, j - 1));
+            let full = [
+                link_from(Thread::Warp, b),
+                link_from(Thread::Weft, b),
+                around.0.and_then(|a| link_from(Thread::Warp, a)),
+                around.1.and_then(|c| link_from(Thread::Weft, c)),
+            ];
+            if let [Some(up), Some(wp), Some(um), Some(wm)] = full {
+                full_crossings.push([up, wp, um, wm]);
+                continue;
+            }
+            for (si, sj) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
+                let (Some(a), Some(c)) = (at(i + si, j), at(i, j + sj)) else {
+                    continue;
+                };
+                // The warp link between b and a starts at whichever has the lower i.
+                let lu = link_from(Thread::Warp, if si > 0 { b } else { a });
+                let lw = link_from(Thread::Weft, if sj > 0 { b } else { c });
+                if let (Some(lu), Some(lw)) = (lu, lw) {
+                    corner_particles.push([a, b, c]);
+                    corner_links.push([SignedLink::new(lu, si < 0), SignedLink::new(lw, sj < 0)]);
+                }
+            }
+        }
+
+        Self {
+            spacing,
+            particle_count: grid_coords.len(),
+            grid_coords,
+            links,
+            warp_link_count,
+            bend_particles,
+            bend_links,
+            warp_bend_count,
+            full_crossings,
+            corner_particles,
+            corner_links,
+        }
+    }
+
+    /// Number of trellis corners: four per full crossing plus the edge corners.
+    pub fn corner_count(&self) -> usize {
+        4 * self.full_crossings.len() + self.corner_links.len()
+    }
+
+    /// The thread a link runs along.
+    pub fn link_thread(&self, link: usize) -> Thread {
+        if link < self.warp_link_count {
+            Thread::Warp
+        } else {
+            Thread::Weft
+        }
+    }
+
+    /// The thread a bending spring runs along.
+    pub fn bend_thread(&self, bend: usize) -> Thread {
+        if bend < self.warp_bend_count {
+            Thread::Warp
+        } else {
+            Thread::Weft
+        }
+    }
+
+    /// Rest positions (m): particle (i, j) at `origin + i·σ·warp + j·σ·weft`.
+    /// `warp` and `weft` are unit vectors (orthogonal for an unsheared cloth).
+    pub fn rest_positions(
+        &self,
+        origin: glam::DVec3,
+        warp: glam::DVec3,
+        weft: glam::DVec3,
+    ) -> Vec<glam::DVec3> {
+        self.grid_coords
+            .iter()
+            .map(|&(i, j)| origin + (i as f64 * self.spacing) * warp + (j as f64 * self.spacing) * weft)
+            .collect()
+    }
+}

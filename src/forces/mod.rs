@@ -1,0 +1,44 @@
+//! Force generators: the KES effects as forces on cloth particles, without any Rapier type.
+//!
+//! Every generator derives its forces from an energy (force = −∇E), so each is conservative by
+//! construction and checked against finite differences of its energy. All read the shared
+//! per-step [`ClothGeometry`] and add into a [`ForceBuffer`]; none allocates per step.
+//!
+//! | effect | file | energy |
+//! |---|---|---|
+//! | bending along warp and weft (seed eq. 2) | [`bending`] | σ²∫₀^K M dk per spring |
+//! | trellising, four corners per crossing (seed eq. 3) | [`trellising`] | (σ²/4)∫₀^γ F dγ', γ = sin φ |
+//! | stretch: the seed's separation law (eq. 1) | [`seed_separation`] | quintic in r − σ |
+//! | stretch: KES tensile power law | [`kes_tensile`] | σ²∫₀^ε T dε' |
+
+pub mod bending;
+mod cloth_geometry;
+mod cloth_topology;
+mod force_buffer;
+pub mod kes_tensile;
+pub mod seed_separation;
+pub mod trellising;
+
+use glam::DVec3;
+
+pub use bending::Bending;
+pub use cloth_geometry::ClothGeometry;
+pub(crate) use cloth_geometry::cos_angle_gradients;
+pub use cloth_topology::{ClothTopology, SignedLink};
+pub use force_buffer::ForceBuffer;
+pub use kes_tensile::KesTensile;
+pub use seed_separation::SeedSeparation;
+pub use trellising::Trellising;
+
+/// One effect acting on the cloth's particles.
+pub trait ForceGenerator: Send + Sync {
+    /// The effect's name, as scenes and metrics spell it (e.g. `"bending"`).
+    fn effect(&self) -> &'static str;
+
+    /// Potential energy (J) stored in this effect for the given geometry.
+    fn energy(&self, geometry: &ClothGeometry) -> f64;
+
+    /// Adds this effect's forces (N) to `forces` (link pairs or particle forces).
+    /// `velocities` (m/s) are there for dissipative effects; elastic ones ignore them.
+    fn add_forces(&self, geometry: &ClothGeometry, velocities: &[DVec3], forces: &mut ForceBuffer);
+}
