@@ -22,8 +22,14 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod bodies;
 pub mod forces;
 pub mod material;
+pub mod measure;
+pub mod output;
 mod ron_file;
+pub mod run;
+pub mod scene;
+pub mod schedule;
 
 pub use ron_file::RonError;

@@ -34,6 +34,9 @@ pub struct ClothTopology {
     /// The trellis corners of all other crossings (at the cloth's edge), as `[a, b, c]`: `b`
     /// the crossing, `a` its warp neighbour, `c` its weft neighbour.
     pub corner_particles: Vec<[u32; 3]>,
+    /// Surface triangles (two per complete grid cell, one where a cell lacks a corner),
+    /// counter-clockwise seen from +weft × +warp; for meshes, pictures and projected areas.
+    pub triangles: Vec<[u32; 3]>,
     /// For each corner, the warp link b–a and the weft link b–c, each as a [`SignedLink`]:
     /// the link index, with [`SignedLink::REVERSED`] set when the neighbour is the link's
     /// first particle (so `sign · unit[link]` points from `b` to the neighbour). Packing the
@@ -159,9 +162,29 @@ impl ClothTopology {
             }
         }
 
+        let mut triangles = Vec::new();
+        for i in 0..nu as isize - 1 {
+            for j in 0..nv as isize - 1 {
+                let quad = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                match quad {
+                    // Alternate the diagonal so the mesh has no preferred direction.
+                    [Some(a), Some(b), Some(c), Some(d)] if (i + j) % 2 == 0 => {
+                        triangles.extend([[a, b, c], [a, c, d]]);
+                    }
+                    [Some(a), Some(b), Some(c), Some(d)] => triangles.extend([[a, b, d], [b, c, d]]),
+                    [None, Some(b), Some(c), Some(d)] => triangles.push([b, c, d]),
+                    [Some(a), None, Some(c), Some(d)] => triangles.push([a, c, d]),
+                    [Some(a), Some(b), None, Some(d)] => triangles.push([a, b, d]),
+                    [Some(a), Some(b), Some(c), None] => triangles.push([a, b, c]),
+                    _ => {}
+                }
+            }
+        }
+
         Self {
             spacing,
             particle_count: grid_coords.len(),
+            triangles,
             grid_coords,
             links,
             warp_link_count,

@@ -10,23 +10,32 @@
 //! | trellising, four corners per crossing (seed eq. 3) | [`trellising`] | (σ²/4)∫₀^γ F dγ', γ = sin φ |
 //! | stretch: the seed's separation law (eq. 1) | [`seed_separation`] | quintic in r − σ |
 //! | stretch: KES tensile power law | [`kes_tensile`] | σ²∫₀^ε T dε' |
+//! | compression of links held by Rapier rope joints | [`link_compression`] | ½k(σ − r)², r < σ |
+//! | damping of relative motion along links | [`link_damping`] | dissipative |
+//! | linear air drag | [`air_drag`] | dissipative |
 
+pub mod air_drag;
 pub mod bending;
 mod cloth_geometry;
 mod cloth_topology;
 mod force_buffer;
 pub mod kes_tensile;
+pub mod link_compression;
+pub mod link_damping;
 pub mod seed_separation;
 pub mod trellising;
 
 use glam::DVec3;
 
+pub use air_drag::AirDrag;
 pub use bending::Bending;
 pub use cloth_geometry::ClothGeometry;
 pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
 pub use force_buffer::ForceBuffer;
 pub use kes_tensile::KesTensile;
+pub use link_compression::LinkCompression;
+pub use link_damping::LinkDamping;
 pub use seed_separation::SeedSeparation;
 pub use trellising::Trellising;
 

@@ -1,0 +1,118 @@
+//! Spawning cloth nodes and links, reading their state, writing our forces.
+
+use glam::{DVec3, Vec3};
+use rapier3d::prelude::*;
+
+use crate::forces::ClothTopology;
+
+/// Collision group of the fixed world (table, disk, floor, user bodies).
+pub(crate) const WORLD_GROUP: Group = Group::GROUP_1;
+/// Collision group of cloth nodes.
+pub(crate) const CLOTH_GROUP: Group = Group::GROUP_2;
+
+/// How to make the nodes of one cloth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeOptions {
+    /// Mass of each node (kg): areal density × σ².
+    pub mass: f64,
+    /// Contact radius of each node's ball (m).
+    pub radius: f64,
+    /// Link warp/weft neighbours by rope joints at the rest spacing (stretch as a constraint).
+    pub rope_links: bool,
+    /// Nodes touch the world's colliders.
+    pub contact: bool,
+    /// Nodes touch each other (not their linked neighbours).
+    pub self_collision: bool,
+    /// Gravity acts on the nodes.
+    pub gravity: bool,
+}
+
+/// The Rapier bodies of one cloth, in particle order.
+#[derive(Clone, Debug)]
+pub struct ClothBodies {
+    /// One dynamic rigid body per node.
+    pub handles: Vec<RigidBodyHandle>,
+    /// Rope joints, one per thread link (empty unless stretch is a constraint).
+    pub joints: Vec<ImpulseJointHandle>,
+    /// Node mass (kg).
+    pub node_mass: f64,
+}
+
+impl ClothBodies {
+    /// Adds one node per particle at `positions` (m) and, if asked, a rope joint per link.
+    pub fn spawn(
+        world: &mut PhysicsWorld,
+        topology: &ClothTopology,
+        positions: &[DVec3],
+        options: &NodeOptions,
+    ) -> Self {
+        let filter = match (options.contact, options.self_collision) {
+            (true, true) => WORLD_GROUP | CLOTH_GROUP,
+            (true, false) => WORLD_GROUP,
+            (false, true) => CLOTH_GROUP,
+            (false, false) => Group::NONE,
+        };
+        let groups = InteractionGroups::new(CLOTH_GROUP, filter, InteractionTestMode::And);
+        let handles: Vec<RigidBodyHandle> = positions
+            .iter()
+            .map(|p| {
+                let body = RigidBodyBuilder::dynamic()
+                    .translation(p.as_vec3())
+                    .lock_rotations()
+                    .can_sleep(false)
+                    .gravity_scale(if options.gravity { 1.0 } else { 0.0 })
+                    .build();
+                let handle = world.insert_body(body);
+                // Friction 0 with the world's Max rule: the world collider's μ applies as given.
+                let ball = ColliderBuilder::ball(options.radius as f32)
+                    .mass(options.mass as f32)
+                    .friction(0.0)
+                    .collision_groups(groups)
+                    .build();
+                world.insert_collider(ball, Some(handle));
+                handle
+            })
+            .collect();
+        let joints = if options.rope_links {
+            topology
+                .links
+                .iter()
+                .map(|&[p, q]| {
+                    // Tension only: a rope joint's lower distance limit is not enforced (measured),
+                    // so compression is resisted by `forces::LinkCompression` instead.
+                    let rope = RopeJointBuilder::new(topology.spacing as f32)
+                        .contacts_enabled(false)
+                        .build();
+                    world.insert_impulse_joint(handles[p as usize], handles[q as usize], rope)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            handles,
+            joints,
+            node_mass: options.mass,
+        }
+    }
+
+    /// Copies node positions (m) and velocities (m/s) out of Rapier.
+    pub fn read(&self, world: &PhysicsWorld, positions: &mut [DVec3], velocities: &mut [DVec3]) {
+        for ((h, x), v) in self.handles.iter().zip(positions).zip(velocities) {
+            if let Some(body) = world.bodies.get(*h) {
+                *x = body.translation().as_dvec3();
+                *v = body.linvel().as_dvec3();
+            }
+        }
+    }
+
+    /// Replaces the user force on every node (N); Rapier holds it constant over the next step.
+    pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
+        for (h, f) in self.handles.iter().zip(forces) {
+            if let Some(body) = world.bodies.get_mut(*h) {
+                body.reset_forces(false);
+                body.add_force(Vec3::new(f.x as f32, f.y as f32, f.z as f32), false);
+            }
+        }
+    }
+}

@@ -1,0 +1,16 @@
+//! Cloth nodes as Rapier particle bodies: the one module that knows how.
+//!
+//! Each node is a small dynamic rigid body (rotations locked) with a ball collider; warp and weft
+//! neighbours are linked by rope joints when stretch is a constraint. Why rigid-body nodes and
+//! not Rapier's soft-body particles is measured and explained in `docs/rapier.md`: on the
+//! drapemeter rim the soft body's trimesh contacts creep and slide off, ball contacts hold.
+//! Everything else in kes-cloth talks to nodes through [`ClothBodies`], so the choice can change
+//! here alone.
+
+mod cloth_bodies;
+mod world_colliders;
+mod world_settings;
+
+pub use cloth_bodies::{ClothBodies, NodeOptions};
+pub use world_colliders::{WorldShape, add_world_collider};
+pub use world_settings::configure_world;

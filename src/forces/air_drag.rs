@@ -1,0 +1,41 @@
+//! Linear air drag against still air: force −c·A·v on each node, A = σ² its share of cloth.
+//!
+//! A deliberately simple law (Stokes-like, per unit area) for flags and falling cloth; unlike
+//! [`super::LinkDamping`] it does slow free fall, as air does.
+
+use glam::DVec3;
+
+use super::{ClothGeometry, ForceBuffer, ForceGenerator};
+
+/// Linear drag on every node.
+#[derive(Clone, Debug)]
+pub struct AirDrag {
+    /// c·A, drag per node (N·s/m).
+    per_node: f64,
+}
+
+impl AirDrag {
+    /// Drag of `coefficient` (N·s/m³) on nodes of area `spacing²` (m²).
+    pub fn new(coefficient: f64, spacing: f64) -> Self {
+        Self {
+            per_node: coefficient * spacing * spacing,
+        }
+    }
+}
+
+impl ForceGenerator for AirDrag {
+    fn effect(&self) -> &'static str {
+        "air_drag"
+    }
+
+    /// Dissipative: stores no energy.
+    fn energy(&self, _geometry: &ClothGeometry) -> f64 {
+        0.0
+    }
+
+    fn add_forces(&self, _geometry: &ClothGeometry, velocities: &[DVec3], forces: &mut ForceBuffer) {
+        for (f, v) in forces.particle.iter_mut().zip(velocities) {
+            *f -= self.per_node * *v;
+        }
+    }
+}

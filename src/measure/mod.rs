@@ -1,0 +1,12 @@
+//! Measurements of the cloth: motion, strain and height each step, the settle criterion, and
+//! per-step progress.
+
+mod motion;
+mod penetration;
+mod progress;
+mod settle;
+
+pub use motion::{Motion, link_strains, measure_motion};
+pub use penetration::{depth_inside, max_penetration};
+pub use progress::{Progress, report_progress};
+pub use settle::{SettleState, update_settle};

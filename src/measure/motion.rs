@@ -1,0 +1,98 @@
+//! Per-step motion statistics and the finite-value guard after Rapier's step.
+
+use bevy_ecs::prelude::*;
+use glam::DVec3;
+
+use crate::bodies::ClothBodies;
+use crate::forces::ClothTopology;
+use crate::schedule::{Clock, ClothNodes, ClothState, Failure, Physics, SimulationFailure};
+
+/// Motion of the cloth after the latest step.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Motion {
+    /// Speed of the fastest node (m/s).
+    pub max_speed: f64,
+    /// Index of the fastest node.
+    pub fastest_node: usize,
+    /// Kinetic energy of all nodes (J).
+    pub kinetic_energy: f64,
+    /// Height of the lowest node centre (m).
+    pub min_height: f64,
+    /// Largest |link length/σ − 1| now (dimensionless).
+    pub max_strain: f64,
+    /// Largest `max_strain` seen so far in the run.
+    pub peak_strain: f64,
+}
+
+/// |l/σ − 1| of every link.
+pub fn link_strains<'a>(
+    topology: &'a ClothTopology,
+    positions: &'a [DVec3],
+) -> impl Iterator<Item = f64> + 'a {
+    let sigma = topology.spacing;
+    topology
+        .links
+        .iter()
+        .map(move |&[p, q]| ((positions[q as usize] - positions[p as usize]).length() / sigma - 1.0).abs())
+}
+
+fn measure(
+    bodies: &ClothBodies,
+    topology: &ClothTopology,
+    positions: &[DVec3],
+    velocities: &[DVec3],
+) -> Motion {
+    let mut m = Motion {
+        min_height: f64::INFINITY,
+        ..Default::default()
+    };
+    for (i, (x, v)) in positions.iter().zip(velocities).enumerate() {
+        let speed = v.length();
+        if speed > m.max_speed {
+            m.max_speed = speed;
+            m.fastest_node = i;
+        }
+        m.kinetic_energy += 0.5 * bodies.node_mass * speed * speed;
+        m.min_height = m.min_height.min(x.y);
+    }
+    m.max_strain = link_strains(topology, positions).fold(0.0, f64::max);
+    m
+}
+
+/// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
+pub fn measure_motion(
+    physics: Res<Physics>,
+    clock: Res<Clock>,
+    mut motion: ResMut<Motion>,
+    mut failure: ResMut<Failure>,
+    mut cloths: Query<(&ClothNodes, &mut ClothState)>,
+) {
+    for (nodes, mut state) in &mut cloths {
+        let state = &mut *state;
+        nodes
+            .0
+            .read(&physics.0, &mut state.positions, &mut state.velocities);
+        let bad = state
+            .positions
+            .iter()
+            .zip(&state.velocities)
+            .position(|(x, v)| !x.is_finite() || !v.is_finite());
+        if let Some(i) = bad {
+            failure.0 = Some(SimulationFailure {
+                step: clock.step,
+                time: clock.time,
+                particle: i,
+                effect: "rapier_step".into(),
+                message: format!(
+                    "node position {:?} m or velocity {:?} m/s is not finite after Rapier's step; \
+                     likely cause: a force or contact too stiff for dt = {} s",
+                    state.positions[i], state.velocities[i], clock.dt
+                ),
+            });
+            return;
+        }
+        let peak = motion.peak_strain;
+        *motion = measure(&nodes.0, &state.topology, &state.positions, &state.velocities);
+        motion.peak_strain = peak.max(motion.max_strain);
+    }
+}

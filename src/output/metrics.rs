@@ -1,0 +1,89 @@
+//! `metrics.json`: the numbers of one run, all SI, the unit in each key.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::OutputError;
+
+/// Calls and time of one effect.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct EffectCost {
+    /// Number of times its system ran.
+    pub calls: u64,
+    /// Wall time spent in it (s).
+    pub seconds: f64,
+}
+
+/// Why a run stopped early.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FailureReport {
+    /// Step at which the failure was detected.
+    pub step: u64,
+    /// Simulated time then (s).
+    pub time_s: f64,
+    /// Node index.
+    pub particle: usize,
+    /// The effect that produced the non-finite value.
+    pub effect: String,
+    /// Description and likely cause.
+    pub message: String,
+}
+
+/// Everything `metrics.json` holds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Metrics {
+    /// Scene name.
+    pub scene: String,
+    /// Fabric name.
+    pub fabric: String,
+    /// Number of cloth nodes.
+    pub particles: usize,
+    /// Node spacing σ (m).
+    pub spacing_m: f64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Steps run.
+    pub steps: u64,
+    /// Simulated time (s).
+    pub sim_time_s: f64,
+    /// Wall-clock time of the simulation loop (s).
+    pub wall_time_s: f64,
+    /// Whether the settle criterion was met before the time limit.
+    pub settled: bool,
+    /// Simulated time at which the cloth came to rest (s), if it did.
+    pub settle_time_s: Option<f64>,
+    /// Largest |link length/σ − 1| at the end (dimensionless).
+    pub max_strain: f64,
+    /// Largest link strain at any step (dimensionless).
+    pub peak_strain: f64,
+    /// Height of the lowest node centre at the end (m).
+    pub min_height_m: f64,
+    /// Deepest node centre inside a collider at the end (m); 0 when none is inside.
+    pub max_penetration_m: f64,
+    /// Speed of the fastest node at the end (m/s).
+    pub max_speed_m_per_s: f64,
+    /// Largest node travel over the last settle window divided by its length (m/s): the
+    /// quantity the settle criterion tests.
+    pub window_speed_m_per_s: Option<f64>,
+    /// Kinetic energy at the end (J).
+    pub kinetic_energy_j: f64,
+    /// Drape coefficient (dimensionless), once measured.
+    pub drape_coefficient: Option<f64>,
+    /// Number of folds (nodes) of the drape, once measured.
+    pub nodes: Option<u32>,
+    /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
+    pub effects: BTreeMap<String, EffectCost>,
+    /// Set when the run stopped on a non-finite value.
+    pub failure: Option<FailureReport>,
+}
+
+impl Metrics {
+    /// Writes `metrics.json` into `dir`. Non-finite numbers are written as null, never NaN.
+    pub fn write(&self, dir: &Path) -> Result<(), OutputError> {
+        let path = dir.join("metrics.json");
+        let text = serde_json::to_string_pretty(self).map_err(|e| OutputError::new(&path, e))?;
+        std::fs::write(&path, text + "\n").map_err(|e| OutputError::new(&path, e))
+    }
+}

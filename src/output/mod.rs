@@ -1,0 +1,30 @@
+//! What a run writes: `metrics.json`, the final mesh `final.obj`, the top view `top.png`.
+
+mod mesh_obj;
+mod metrics;
+mod top_view;
+
+use std::path::PathBuf;
+
+pub use mesh_obj::write_obj;
+pub use metrics::{EffectCost, FailureReport, Metrics};
+pub use top_view::{TopViewOutline, write_top_view};
+
+/// Writing an output file failed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot write: {message}", path.display())]
+pub struct OutputError {
+    /// The file being written.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl OutputError {
+    pub(crate) fn new(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}

@@ -1,0 +1,256 @@
+//! Running a scene: step the schedule until the cloth settles or the time limit, then collect
+//! metrics and write the output files.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use bevy_ecs::prelude::*;
+use glam::DVec3;
+
+use crate::forces::{
+    AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, LinkCompression, LinkDamping,
+    SeedSeparation, Trellising,
+};
+use crate::measure::{Motion, Progress, SettleState};
+use crate::output::{
+    EffectCost, FailureReport, Metrics, OutputError, TopViewOutline, write_obj, write_top_view,
+};
+use crate::scene::{ColliderShape, Scene};
+use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Failure, build_step_schedule};
+
+/// How to run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunOptions {
+    /// Show a progress bar on the terminal.
+    pub progress: bool,
+}
+
+/// The result of a run: its metrics and the final cloth.
+#[derive(Clone, Debug)]
+pub struct RunOutcome {
+    /// The numbers of `metrics.json`.
+    pub metrics: Metrics,
+    /// The woven grid.
+    pub topology: Arc<ClothTopology>,
+    /// Final node positions (m); finite unless the run failed.
+    pub positions: Vec<DVec3>,
+}
+
+/// A run that stopped on a non-finite value.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "simulation diverged at step {} (t = {:.4} s): particle {}, effect `{}`: {}",
+    .0.step, .0.time_s, .0.particle, .0.effect, .0.message
+)]
+pub struct DivergenceError(pub FailureReport);
+
+/// Simulates `scene` to rest or to its time limit. A failure is recorded in the metrics.
+pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
+    let (mut world, cloth) = crate::scene::spawn::spawn(scene);
+    let mut schedule = build_step_schedule();
+    let max_time = scene.spec.integration.max_time_s;
+    let dt = scene.spec.integration.dt_s;
+    let max_steps = (max_time / dt).ceil() as u64;
+    if options.progress {
+        world.insert_resource(Progress::new(max_time, (0.02 / dt).ceil() as u64));
+    }
+    let start = Instant::now();
+    let mut failure = None;
+    loop {
+        schedule.run(&mut world);
+        if let Some(f) = world.resource::<Failure>().0.clone() {
+            let effect = if f.effect == "(forces)" {
+                diagnose_forces(&world, cloth).unwrap_or("unknown").to_string()
+            } else {
+                f.effect.clone()
+            };
+            failure = Some(FailureReport {
+                step: f.step,
+                time_s: f.time,
+                particle: f.particle,
+                effect,
+                message: f.message,
+            });
+            break;
+        }
+        let clock = world.resource::<Clock>();
+        if world.resource::<SettleState>().settled_at.is_some() || clock.step >= max_steps {
+            break;
+        }
+    }
+    let wall = start.elapsed().as_secs_f64();
+    if let Some(p) = world.get_resource::<Progress>() {
+        p.finish();
+    }
+
+    let clock = *world.resource::<Clock>();
+    let motion = *world.resource::<Motion>();
+    let settle = world.resource::<SettleState>().clone();
+    let ledger = world.resource::<EffectLedger>().clone();
+    let state = world.get::<ClothState>(cloth);
+    let (topology, positions) = match state {
+        Some(s) => (s.topology.clone(), s.positions.clone()),
+        None => (Arc::new(ClothTopology::rectangle(0, 0, 1.0)), Vec::new()),
+    };
+    let metrics = Metrics {
+        scene: scene.spec.name.clone(),
+        fabric: scene.fabric.name.clone(),
+        particles: topology.particle_count,
+        spacing_m: topology.spacing,
+        dt_s: dt,
+        steps: clock.step,
+        sim_time_s: clock.time,
+        wall_time_s: wall,
+        settled: settle.settled_at.is_some() && failure.is_none(),
+        settle_time_s: settle.settled_at,
+        max_strain: motion.max_strain,
+        peak_strain: motion.peak_strain,
+        min_height_m: if motion.min_height.is_finite() {
+            motion.min_height
+        } else {
+            0.0
+        },
+        max_penetration_m: if positions.iter().all(|p| p.is_finite()) {
+            crate::measure::max_penetration(&crate::scene::spawn::world_shapes(scene), &positions).0
+        } else {
+            0.0
+        },
+        max_speed_m_per_s: motion.max_speed,
+        window_speed_m_per_s: settle.window_speed,
+        kinetic_energy_j: motion.kinetic_energy,
+        drape_coefficient: None,
+        nodes: None,
+        effects: ledger
+            .entries
+            .iter()
+            .map(|(name, calls, seconds)| {
+                (
+                    name.to_string(),
+                    EffectCost {
+                        calls: *calls,
+                        seconds: *seconds,
+                    },
+                )
+            })
+            .collect(),
+        failure,
+    };
+    RunOutcome {
+        metrics,
+        topology,
+        positions,
+    }
+}
+
+/// Re-evaluates each effect on the cloth's current state, alone, and names the first whose
+/// forces are not finite.
+fn diagnose_forces(world: &World, cloth: Entity) -> Option<&'static str> {
+    fn check<G: ForceGenerator + 'static>(
+        world: &World,
+        cloth: Entity,
+        state: &ClothState,
+    ) -> Option<&'static str> {
+        let effect = world.get::<Effect<G>>(cloth)?;
+        let mut buffer = ForceBuffer::new(&state.topology);
+        effect
+            .0
+            .add_forces(&state.geometry, &state.velocities, &mut buffer);
+        let bad = buffer.resolve(&state.topology).iter().any(|f| !f.is_finite());
+        bad.then(|| effect.0.effect())
+    }
+    let state = world.get::<ClothState>(cloth)?;
+    check::<Bending>(world, cloth, state)
+        .or_else(|| check::<Trellising>(world, cloth, state))
+        .or_else(|| check::<SeedSeparation>(world, cloth, state))
+        .or_else(|| check::<KesTensile>(world, cloth, state))
+        .or_else(|| check::<LinkCompression>(world, cloth, state))
+        .or_else(|| check::<LinkDamping>(world, cloth, state))
+        .or_else(|| check::<AirDrag>(world, cloth, state))
+}
+
+/// Writes `metrics.json` and, for a run that did not fail, `final.obj` and `top.png`.
+pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::new(dir, e))?;
+    outcome.metrics.write(dir)?;
+    if outcome.metrics.failure.is_some() {
+        return Ok(());
+    }
+    let out = &scene.spec.output;
+    if out.mesh_obj {
+        write_obj(dir, &scene.spec.name, &outcome.topology, &outcome.positions)?;
+    }
+    if out.top_png {
+        let outlines: Vec<TopViewOutline> = scene
+            .spec
+            .world
+            .colliders
+            .iter()
+            .filter_map(|c| {
+                let centre = [c.centre_m[0], c.centre_m[2]];
+                match c.shape {
+                    ColliderShape::Cylinder { radius_m, .. } => Some(TopViewOutline::Circle {
+                        centre,
+                        radius: radius_m,
+                    }),
+                    ColliderShape::Cuboid {
+                        half_extents_m: [x, _, z],
+                    } if x < 1.0 && z < 1.0 => Some(TopViewOutline::Rectangle { centre, half: [x, z] }),
+                    // A floor-sized box would only frame the picture.
+                    ColliderShape::Cuboid { .. } => None,
+                    ColliderShape::Ball { radius_m } => Some(TopViewOutline::Circle {
+                        centre,
+                        radius: radius_m,
+                    }),
+                }
+            })
+            .collect();
+        write_top_view(
+            dir,
+            out.image_size_px,
+            &outcome.topology,
+            &outcome.positions,
+            &outlines,
+        )?;
+    }
+    Ok(())
+}
+
+/// The short summary printed after a run.
+pub fn summary(outcome: &RunOutcome) -> String {
+    let m = &outcome.metrics;
+    let mut s = format!(
+        "{} ({}): {} nodes at {:.1} mm, dt {:.3} ms\n",
+        m.scene,
+        m.fabric,
+        m.particles,
+        m.spacing_m * 1e3,
+        m.dt_s * 1e3
+    );
+    match (m.settled, m.settle_time_s) {
+        (true, Some(t)) => s += &format!("  settled at t = {t:.2} s"),
+        _ => s += "  NOT settled: the numbers below are provisional",
+    }
+    s += &format!(
+        " ({} steps, {:.2} s simulated, {:.1} s wall)\n",
+        m.steps, m.sim_time_s, m.wall_time_s
+    );
+    s += &format!(
+        "  lowest node {:.1} mm, max link strain {:.2} % (peak {:.2} %), fastest node {:.2} mm/s now, {} over the settle window\n",
+        m.min_height_m * 1e3,
+        m.max_strain * 100.0,
+        m.peak_strain * 100.0,
+        m.max_speed_m_per_s * 1e3,
+        m.window_speed_m_per_s
+            .map_or("-".to_string(), |v| format!("{:.2} mm/s", v * 1e3))
+    );
+    let ours: f64 = m
+        .effects
+        .iter()
+        .filter(|(k, _)| *k != "rapier_step")
+        .map(|(_, c)| c.seconds)
+        .sum();
+    let rapier = m.effects.get("rapier_step").map_or(0.0, |c| c.seconds);
+    s += &format!("  time: our forces {ours:.2} s, Rapier's step {rapier:.2} s");
+    s
+}

@@ -1,0 +1,97 @@
+//! Scenes: the RON schema, its validation, `--set` overrides, and spawning into a world.
+//!
+//! `scenes/*.ron` → [`SceneFile`] (schema, SI) → [`Scene`] (validated, fabric loaded) →
+//! [`spawn`] (a bevy_ecs `World` holding the Rapier world and the cloth). The engine
+//! (`forces`, `schedule`, `measure`) never sees RON.
+
+mod describe;
+mod scene_error;
+mod scene_file;
+mod scene_overrides;
+mod scene_validation;
+pub mod spawn;
+
+use std::path::{Path, PathBuf};
+
+pub use describe::describe;
+pub use scene_error::SceneError;
+pub use scene_file::*;
+pub use scene_validation::MAX_NODES;
+
+use crate::material::Fabric;
+
+/// A validated scene, its fabric loaded and converted to SI.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file it came from (for messages).
+    pub path: PathBuf,
+    /// The validated description (SI).
+    pub spec: SceneFile,
+    /// The fabric, in SI.
+    pub fabric: Fabric,
+}
+
+impl Scene {
+    /// Reads `path`, applies `--set` overrides in order, validates, and loads the fabric.
+    pub fn load(path: impl AsRef<Path>, overrides: &[String]) -> Result<Self, SceneError> {
+        let path = path.as_ref().to_path_buf();
+        let text = std::fs::read_to_string(&path).map_err(|source| SceneError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        Self::from_text(&text, path, overrides)
+    }
+
+    /// Parses scene text as if read from `path` (fabric files resolve against its folder).
+    pub fn from_text(text: &str, path: PathBuf, overrides: &[String]) -> Result<Self, SceneError> {
+        let mut spec: SceneFile = crate::ron_file::parse(text).map_err(|e| SceneError::Syntax {
+            path: path.clone(),
+            line: e.line,
+            column: e.column,
+            message: e.message,
+        })?;
+        for assignment in overrides {
+            spec = scene_overrides::apply(&spec, assignment).map_err(|reason| SceneError::Override {
+                path: path.clone(),
+                assignment: assignment.clone(),
+                reason,
+            })?;
+        }
+        Self::from_spec(spec, path)
+    }
+
+    /// Validates an already parsed scene.
+    pub fn from_spec(spec: SceneFile, path: PathBuf) -> Result<Self, SceneError> {
+        scene_validation::validate(&spec).map_err(|(field, value, reason)| SceneError::Invalid {
+            path: path.clone(),
+            field,
+            value,
+            reason,
+        })?;
+        let fabric = match &spec.fabric {
+            FabricSource::File(file) => {
+                let base = path.parent().unwrap_or(Path::new("."));
+                Fabric::load(base.join(file))
+            }
+            FabricSource::Inline(kes) => {
+                Fabric::from_kes(kes).map_err(|source| crate::material::FabricLoadError::Invalid {
+                    path: path.clone(),
+                    source,
+                })
+            }
+        }
+        .map_err(|source| SceneError::Fabric {
+            path: path.clone(),
+            source,
+        })?;
+        Ok(Self { path, spec, fabric })
+    }
+
+    /// Node contact radius (m): the scene's value or half the spacing.
+    pub fn node_radius(&self) -> f64 {
+        self.spec
+            .cloth
+            .node_radius_m
+            .unwrap_or(self.spec.cloth.spacing_m / 2.0)
+    }
+}

@@ -1,0 +1,289 @@
+//! The scene file schema (`scenes/*.ron`): SI units, the unit in every field name.
+//!
+//! Unknown fields are rejected. Optional fields have the defaults their docs give. The engine
+//! never reads this type: [`crate::scene::Scene::from_file`] validates it into a
+//! [`crate::scene::Scene`].
+
+use serde::{Deserialize, Serialize};
+
+use crate::material::KesFabric;
+
+/// The schema version this build reads.
+pub const SCENE_VERSION: u32 = 1;
+
+/// A whole scene as written in a `.ron` file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Schema version; must be 1.
+    pub version: u32,
+    /// Scene name, used for the default output folder `out/<name>/`.
+    pub name: String,
+    /// The fabric: a KES fabric file (path relative to the scene file) or inline KES values.
+    pub fabric: FabricSource,
+    /// The cloth sample: shape, node spacing, placement.
+    pub cloth: ClothSpec,
+    /// Seed of the random initial perturbation (default 0).
+    #[serde(default)]
+    pub seed: u64,
+    /// The rigid world: gravity and colliders.
+    pub world: WorldSpec,
+    /// The effects this scene simulates; anything not asked for never runs.
+    pub effects: EffectsSpec,
+    /// Time stepping, solver and stopping.
+    pub integration: IntegrationSpec,
+    /// Which output files to write.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// Where the fabric comes from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum FabricSource {
+    /// A fabric file in KES units, relative to the scene file's folder.
+    File(String),
+    /// KES values written in the scene itself.
+    Inline(Box<KesFabric>),
+}
+
+/// The cloth sample before it drapes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClothSpec {
+    /// Outline of the flat sample.
+    pub shape: ClothShape,
+    /// σ, node spacing: distance between neighbouring warp/weft crossings (m), > 0.
+    pub spacing_m: f64,
+    /// Centre of the flat sample (m), +y up.
+    pub centre_m: [f64; 3],
+    /// Angle of the warp from the +x axis, about +y (degrees; default 0).
+    #[serde(default)]
+    pub warp_angle_deg: f64,
+    /// Amplitude of the seeded random vertical offset of each node (m; default 0). Breaks the
+    /// symmetry of a perfectly flat start so repeats can differ, like laboratory repeats.
+    #[serde(default)]
+    pub perturbation_m: f64,
+    /// Contact radius of each node (m; default half the spacing). Node centres rest on the true
+    /// collider surfaces: colliders are shrunk by this radius (see `docs/rapier.md`).
+    #[serde(default)]
+    pub node_radius_m: Option<f64>,
+}
+
+/// Outline of the flat sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ClothShape {
+    /// A circle (drape tests).
+    Circle {
+        /// Diameter (m).
+        diameter_m: f64,
+    },
+    /// A square, sides along warp and weft (tablecloths).
+    Square {
+        /// Side length (m).
+        side_m: f64,
+    },
+}
+
+/// The rigid world.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSpec {
+    /// Gravity (m/s²; default (0, −9.80665, 0)).
+    #[serde(default = "default_gravity")]
+    pub gravity_m_per_s2: [f64; 3],
+    /// Fixed colliders the cloth can touch.
+    pub colliders: Vec<ColliderSpec>,
+}
+
+fn default_gravity() -> [f64; 3] {
+    [0.0, -crate::material::STANDARD_GRAVITY, 0.0]
+}
+
+/// A fixed rigid collider.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColliderSpec {
+    /// Name used in messages and measurements (e.g. "disk", "table").
+    pub name: String,
+    /// Shape and size.
+    pub shape: ColliderShape,
+    /// Centre of the shape (m).
+    pub centre_m: [f64; 3],
+    /// Coulomb friction coefficient against the cloth (dimensionless, ≥ 0; default 0.5).
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+}
+
+fn default_friction() -> f64 {
+    0.5
+}
+
+/// Collider shapes, axis-aligned, +y up.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ColliderShape {
+    /// A vertical cylinder, e.g. a drapemeter disk.
+    Cylinder {
+        /// Radius (m).
+        radius_m: f64,
+        /// Half its height (m).
+        half_height_m: f64,
+    },
+    /// A box, e.g. a table top or the floor.
+    Cuboid {
+        /// Half extents along x, y, z (m).
+        half_extents_m: [f64; 3],
+    },
+    /// A sphere.
+    Ball {
+        /// Radius (m).
+        radius_m: f64,
+    },
+}
+
+/// The effects a scene asks for. Each effect that is off costs nothing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectsSpec {
+    /// Gravity acts on the cloth (default true).
+    #[serde(default = "yes")]
+    pub gravity: bool,
+    /// How warp and weft resist stretching.
+    pub stretch: StretchModel,
+    /// KES bending M(K) along warp and weft (seed eq. 2).
+    pub bending: bool,
+    /// KES trellising F(φ) (seed eq. 3).
+    pub trellising: bool,
+    /// Contact with the colliders (default true).
+    #[serde(default = "yes")]
+    pub contact: bool,
+    /// Friction in those contacts (default true; off sets μ = 0).
+    #[serde(default = "yes")]
+    pub friction: bool,
+    /// The cloth's nodes collide with each other (default false).
+    #[serde(default)]
+    pub self_collision: bool,
+    /// Damping of relative motion along and across links (default none).
+    #[serde(default)]
+    pub damping: Option<DampingSpec>,
+    /// Aerodynamic drag against still air (default none).
+    #[serde(default)]
+    pub air_drag: Option<AirDragSpec>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// How the threads resist stretch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StretchModel {
+    /// Rapier rope joints at the rest spacing: nearly inextensible, solved implicitly.
+    Constraint,
+    /// The seed's separation law (eq. 1), C₀ from the KES tensile test.
+    Seed,
+    /// The KES tensile power law from EMT, LT and WT.
+    Kes,
+}
+
+/// Damping of the cloth's internal motion.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Rate (1/s) at which the relative velocity of two linked nodes decays; acts only on
+    /// motion inside the cloth, never on free fall.
+    pub rate_per_s: f64,
+}
+
+/// Air drag on each node, against still air.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AirDragSpec {
+    /// Linear drag coefficient per unit cloth area (N·s/m³): force = −c·σ²·v.
+    pub coefficient_n_s_per_m3: f64,
+}
+
+/// Time stepping and stopping.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegrationSpec {
+    /// Time step (s), > 0. Our KES forces are explicit at this step (see `docs/model.md`).
+    pub dt_s: f64,
+    /// Rapier solver iterations (substeps) per step (default 1). Our forces are sampled once
+    /// per step; with more than one substep Rapier integrates them in a way that is unstable
+    /// for any stiffness (see `docs/rapier.md`), so keep 1 unless no KES force is on.
+    #[serde(default = "default_iterations")]
+    pub solver_iterations: usize,
+    /// PGS sweeps per substep, for joint and contact accuracy (default 4).
+    #[serde(default = "default_pgs")]
+    pub internal_pgs_iterations: usize,
+    /// Simulated time after which the run stops, settled or not (s), > 0.
+    pub max_time_s: f64,
+    /// When the cloth counts as at rest.
+    #[serde(default)]
+    pub settle: SettleSpec,
+}
+
+fn default_iterations() -> usize {
+    1
+}
+
+fn default_pgs() -> usize {
+    4
+}
+
+/// The settle criterion: over a window of `hold_s`, no node travels further than
+/// `max_speed_m_per_s × hold_s` (see `measure/settle.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SettleSpec {
+    /// Mean speed over the window below which every node counts as at rest (m/s; default 0.001).
+    pub max_speed_m_per_s: f64,
+    /// Window length (s; default 0.5).
+    pub hold_s: f64,
+    /// Ignore the first part of the run (s; default 0.2), while the cloth has not yet moved.
+    #[serde(default = "default_min_time")]
+    pub min_time_s: f64,
+}
+
+fn default_min_time() -> f64 {
+    0.2
+}
+
+impl Default for SettleSpec {
+    fn default() -> Self {
+        Self {
+            max_speed_m_per_s: 0.001,
+            hold_s: 0.5,
+            min_time_s: default_min_time(),
+        }
+    }
+}
+
+/// Output files.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    /// Write `final.obj` (default true).
+    #[serde(default = "yes")]
+    pub mesh_obj: bool,
+    /// Write `top.png` (default true).
+    #[serde(default = "yes")]
+    pub top_png: bool,
+    /// Width and height of `top.png` (pixels; default 800).
+    #[serde(default = "default_image_size")]
+    pub image_size_px: u32,
+}
+
+fn default_image_size() -> u32 {
+    800
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            mesh_obj: true,
+            top_png: true,
+            image_size_px: default_image_size(),
+        }
+    }
+}

@@ -1,0 +1,49 @@
+//! `--set KEY=VALUE`: override any scene field by its path, e.g. `integration.dt_s=0.0005`.
+//!
+//! The scene is turned into a JSON tree, the value replaced, and the tree read back through the
+//! same schema, so an override is checked exactly like the file (unknown field, wrong type).
+//! A path may skip an enum variant's name: `cloth.shape.diameter_m` reaches into `Circle`.
+
+use super::scene_file::SceneFile;
+
+/// Applies one `KEY=VALUE` assignment; the error is a human-readable reason.
+pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, String> {
+    let (key, raw) = assignment
+        .split_once('=')
+        .ok_or("expected KEY=VALUE, e.g. integration.dt_s=0.0005")?;
+    let key = key.trim();
+    if key.is_empty() {
+        return Err("empty KEY".into());
+    }
+    // Numbers, booleans, arrays and quoted strings read as JSON; a bare word (an enum variant
+    // such as `Kes`, or a path) as a string.
+    let value: serde_json::Value = serde_json::from_str(raw.trim())
+        .unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
+    let mut tree = serde_json::to_value(scene).map_err(|e| e.to_string())?;
+    let mut node = &mut tree;
+    let parts: Vec<&str> = key.split('.').collect();
+    for (depth, part) in parts.iter().enumerate() {
+        node = step_into(node, part)
+            .ok_or_else(|| format!("the scene has no field `{}`", parts[..=depth].join(".")))?;
+    }
+    *node = value;
+    serde_json::from_value(tree).map_err(|e| format!("`{key}` does not accept {}: {e}", raw.trim()))
+}
+
+/// The child `part` of `node`, looking through a single-variant enum wrapper if needed.
+fn step_into<'a>(node: &'a mut serde_json::Value, part: &str) -> Option<&'a mut serde_json::Value> {
+    let serde_json::Value::Object(map) = node else {
+        return None;
+    };
+    if map.contains_key(part) {
+        return map.get_mut(part);
+    }
+    // An externally tagged enum: {"Circle": {"diameter_m": ..}}.
+    if map.len() == 1 {
+        let inner = map.values_mut().next()?;
+        if let serde_json::Value::Object(m) = inner {
+            return m.get_mut(part);
+        }
+    }
+    None
+}

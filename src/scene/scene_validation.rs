@@ -1,0 +1,244 @@
+//! Physical and numerical range checks of a scene, each naming the field and the allowed range.
+
+use super::scene_file::{ClothShape, ColliderShape, SCENE_VERSION, SceneFile};
+
+/// A field outside its range: (field path, value, reason).
+pub(crate) type Violation = (String, String, String);
+
+fn violation(field: &str, value: impl std::fmt::Display, reason: impl Into<String>) -> Violation {
+    (field.to_string(), value.to_string(), reason.into())
+}
+
+/// `low < value ≤ high` (NaN fails).
+fn in_open_closed(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<(), Violation> {
+    if value > low && value <= high {
+        Ok(())
+    } else {
+        Err(violation(
+            field,
+            value,
+            format!("must lie in ({low}, {high}] {unit}")
+                .trim_end()
+                .to_string(),
+        ))
+    }
+}
+
+/// `low ≤ value ≤ high` (NaN fails).
+fn in_closed(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<(), Violation> {
+    if value >= low && value <= high {
+        Ok(())
+    } else {
+        Err(violation(
+            field,
+            value,
+            format!("must lie in [{low}, {high}] {unit}")
+                .trim_end()
+                .to_string(),
+        ))
+    }
+}
+
+fn finite3(field: &str, v: [f64; 3]) -> Result<(), Violation> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(violation(
+            field,
+            format!("{v:?}"),
+            "every component must be a finite number",
+        ))
+    }
+}
+
+fn whole(field: &str, value: usize, low: usize, high: usize) -> Result<(), Violation> {
+    if (low..=high).contains(&value) {
+        Ok(())
+    } else {
+        Err(violation(field, value, format!("must lie in [{low}, {high}]")))
+    }
+}
+
+/// Largest cloth this build accepts (nodes); a guard against a spacing typo.
+pub const MAX_NODES: usize = 1_000_000;
+
+/// Checks every range of a parsed scene.
+pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
+    if s.version != SCENE_VERSION {
+        return Err(violation(
+            "version",
+            s.version,
+            format!("this build reads scene version {SCENE_VERSION}"),
+        ));
+    }
+    let name_ok = !s.name.is_empty()
+        && s.name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        && !s.name.starts_with('.');
+    if !name_ok {
+        return Err(violation(
+            "name",
+            format!("{:?}", s.name),
+            "must be a non-empty file name of letters, digits, '-', '_' or '.'",
+        ));
+    }
+
+    let c = &s.cloth;
+    let size = match c.shape {
+        ClothShape::Circle { diameter_m } => {
+            in_open_closed("cloth.shape.diameter_m", diameter_m, 0.0, 100.0, "m")?;
+            diameter_m
+        }
+        ClothShape::Square { side_m } => {
+            in_open_closed("cloth.shape.side_m", side_m, 0.0, 100.0, "m")?;
+            side_m
+        }
+    };
+    in_open_closed(
+        "cloth.spacing_m",
+        c.spacing_m,
+        0.0,
+        size / 2.0,
+        "m (at least three nodes across the cloth)",
+    )?;
+    let across = (size / c.spacing_m).floor() + 1.0;
+    if across * across > MAX_NODES as f64 {
+        return Err(violation(
+            "cloth.spacing_m",
+            c.spacing_m,
+            format!("gives about {across:.0}² nodes; at most {MAX_NODES} are allowed"),
+        ));
+    }
+    finite3("cloth.centre_m", c.centre_m)?;
+    in_closed("cloth.warp_angle_deg", c.warp_angle_deg, -360.0, 360.0, "deg")?;
+    in_closed(
+        "cloth.perturbation_m",
+        c.perturbation_m,
+        0.0,
+        c.spacing_m / 4.0,
+        "m (a quarter of the spacing)",
+    )?;
+    let radius = c.node_radius_m.unwrap_or(c.spacing_m / 2.0);
+    if let Some(r) = c.node_radius_m {
+        in_open_closed(
+            "cloth.node_radius_m",
+            r,
+            0.0,
+            c.spacing_m,
+            "m (at most the spacing)",
+        )?;
+    }
+
+    finite3("world.gravity_m_per_s2", s.world.gravity_m_per_s2)?;
+    for (i, col) in s.world.colliders.iter().enumerate() {
+        let f = |name: &str| format!("world.colliders[{i}].{name}");
+        finite3(&f("centre_m"), col.centre_m)?;
+        in_closed(&f("friction"), col.friction, 0.0, 10.0, "")?;
+        // Colliders are shrunk by the node radius so node centres rest on the true surface.
+        let shrink = format!("m (more than the node radius {radius} m, by which the collider is shrunk)");
+        match col.shape {
+            ColliderShape::Cylinder {
+                radius_m,
+                half_height_m,
+            } => {
+                in_open_closed(&f("shape.radius_m"), radius_m - radius, 0.0, 100.0, &shrink).map_err(
+                    |_| {
+                        violation(
+                            &f("shape.radius_m"),
+                            radius_m,
+                            format!("must exceed {radius} {shrink}"),
+                        )
+                    },
+                )?;
+                in_open_closed(
+                    &f("shape.half_height_m"),
+                    half_height_m - radius,
+                    0.0,
+                    100.0,
+                    &shrink,
+                )
+                .map_err(|_| {
+                    violation(
+                        &f("shape.half_height_m"),
+                        half_height_m,
+                        format!("must exceed {radius} {shrink}"),
+                    )
+                })?;
+            }
+            ColliderShape::Cuboid { half_extents_m } => {
+                for (axis, h) in ["x", "y", "z"].iter().zip(half_extents_m) {
+                    in_open_closed(&f("shape.half_extents_m"), h - radius, 0.0, 100.0, &shrink).map_err(
+                        |_| {
+                            violation(
+                                &f("shape.half_extents_m"),
+                                format!("{half_extents_m:?}"),
+                                format!("{axis} must exceed {radius} {shrink}"),
+                            )
+                        },
+                    )?;
+                }
+            }
+            ColliderShape::Ball { radius_m } => {
+                in_open_closed(&f("shape.radius_m"), radius_m - radius, 0.0, 100.0, &shrink).map_err(
+                    |_| {
+                        violation(
+                            &f("shape.radius_m"),
+                            radius_m,
+                            format!("must exceed {radius} {shrink}"),
+                        )
+                    },
+                )?;
+            }
+        }
+    }
+
+    let i = &s.integration;
+    in_open_closed("integration.dt_s", i.dt_s, 0.0, 0.1, "s")?;
+    whole("integration.solver_iterations", i.solver_iterations, 1, 64)?;
+    whole(
+        "integration.internal_pgs_iterations",
+        i.internal_pgs_iterations,
+        1,
+        64,
+    )?;
+    in_open_closed("integration.max_time_s", i.max_time_s, 0.0, 1e4, "s")?;
+    in_open_closed(
+        "integration.settle.max_speed_m_per_s",
+        i.settle.max_speed_m_per_s,
+        0.0,
+        10.0,
+        "m/s",
+    )?;
+    in_closed("integration.settle.hold_s", i.settle.hold_s, 0.0, 1e4, "s")?;
+    in_closed(
+        "integration.settle.min_time_s",
+        i.settle.min_time_s,
+        0.0,
+        1e4,
+        "s",
+    )?;
+    if let Some(d) = s.effects.damping {
+        // Explicit at the step: an interior node has four links, stable while rate·dt < 1/4.
+        let limit = 0.25 / s.integration.dt_s;
+        in_closed(
+            "effects.damping.rate_per_s",
+            d.rate_per_s,
+            0.0,
+            limit,
+            "1/s (explicit damping is stable below 1/(4·dt))",
+        )?;
+    }
+    if let Some(a) = s.effects.air_drag {
+        in_closed(
+            "effects.air_drag.coefficient_n_s_per_m3",
+            a.coefficient_n_s_per_m3,
+            0.0,
+            1e6,
+            "N·s/m³",
+        )?;
+    }
+
+    whole("output.image_size_px", s.output.image_size_px as usize, 64, 8192)?;
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! The cloth entity's components and the world's resources.
+
+use std::sync::Arc;
+
+use bevy_ecs::prelude::*;
+use glam::DVec3;
+use rapier3d::prelude::PhysicsWorld;
+
+use crate::bodies::ClothBodies;
+use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+
+/// The Rapier world (bodies, colliders, joints, pipeline), owned by the ECS world.
+#[derive(Resource)]
+pub struct Physics(pub PhysicsWorld);
+
+/// One cloth's state mirrored out of Rapier each step, and its force accumulators.
+#[derive(Component)]
+pub struct ClothState {
+    /// The woven grid.
+    pub topology: Arc<ClothTopology>,
+    /// Node positions (m), read from Rapier at the start of each step.
+    pub positions: Vec<DVec3>,
+    /// Node velocities (m/s), read with the positions.
+    pub velocities: Vec<DVec3>,
+    /// Link directions and lengths of `positions`.
+    pub geometry: ClothGeometry,
+    /// This step's forces (N).
+    pub forces: ForceBuffer,
+}
+
+impl ClothState {
+    /// State buffers for `topology` at `positions` (m), at rest.
+    pub fn new(topology: Arc<ClothTopology>, positions: Vec<DVec3>) -> Self {
+        let mut geometry = ClothGeometry::new(topology.clone());
+        geometry.update(&positions);
+        Self {
+            velocities: vec![DVec3::ZERO; positions.len()],
+            forces: ForceBuffer::new(&topology),
+            topology,
+            positions,
+            geometry,
+        }
+    }
+}
+
+/// The Rapier bodies of a cloth.
+#[derive(Component)]
+pub struct ClothNodes(pub ClothBodies);
+
+/// A force generator acting on the cloth entity that carries it. Its presence is the run
+/// condition of the system that applies it: an effect a scene does not declare has no
+/// component, so its system never runs.
+#[derive(Component)]
+pub struct Effect<G: ForceGenerator + 'static>(pub G);
+
+/// Simulation time.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct Clock {
+    /// Time step (s).
+    pub dt: f64,
+    /// Steps completed.
+    pub step: u64,
+    /// Simulated time (s).
+    pub time: f64,
+}
+
+/// Calls and time spent per effect (for `metrics.json`).
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct EffectLedger {
+    /// (effect name, calls, seconds), in a fixed order.
+    pub entries: Vec<(&'static str, u64, f64)>,
+}
+
+/// Every effect kes-cloth can run as a system, by name; each appears in `metrics.json`, with 0
+/// calls when the scene did not ask for it.
+pub const EFFECT_NAMES: [&str; 8] = [
+    "bending",
+    "trellising",
+    "stretch_seed",
+    "stretch_kes",
+    "compression",
+    "damping",
+    "air_drag",
+    "rapier_step",
+];
+
+impl EffectLedger {
+    /// A ledger listing every effect with no calls.
+    pub fn with_all_effects() -> Self {
+        Self {
+            entries: EFFECT_NAMES.iter().map(|n| (*n, 0, 0.0)).collect(),
+        }
+    }
+
+    /// Records one call of `effect` that took `seconds`.
+    pub fn record(&mut self, effect: &'static str, seconds: f64) {
+        match self.entries.iter_mut().find(|e| e.0 == effect) {
+            Some(e) => {
+                e.1 += 1;
+                e.2 += seconds;
+            }
+            None => self.entries.push((effect, 1, seconds)),
+        }
+    }
+
+    /// (calls, seconds) of `effect`.
+    pub fn get(&self, effect: &str) -> (u64, f64) {
+        self.entries
+            .iter()
+            .find(|e| e.0 == effect)
+            .map_or((0, 0.0), |e| (e.1, e.2))
+    }
+}
+
+/// Why a run stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationFailure {
+    /// Step at which it happened.
+    pub step: u64,
+    /// Simulated time (s).
+    pub time: f64,
+    /// The particle (node index).
+    pub particle: usize,
+    /// The effect that produced it (`rapier_step` for Rapier's own integration).
+    pub effect: String,
+    /// What went wrong and the likely cause.
+    pub message: String,
+}
+
+/// Set by a system when the run must stop.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct Failure(pub Option<SimulationFailure>);

@@ -1,0 +1,88 @@
+//! The bevy_ecs schedule that advances a scene by one step.
+//!
+//! One run of the schedule is one time step, in five chained phases:
+//!
+//! 1. [`Phase::Prepare`]: update the link geometry from the node state, clear the force
+//!    buffers.
+//! 2. [`Phase::Forces`]: one system per KES effect (bending, trellising, stretch, damping, air
+//!    drag), each behind a run condition: it runs only if the scene's cloth carries that
+//!    [`Effect`] component. Then the link forces are summed onto nodes and handed to Rapier.
+//! 3. [`Phase::Step`]: Rapier's step (gravity, our forces, joints, contact, friction).
+//! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, the finite-value
+//!    guard, motion statistics, the settle criterion.
+//! 5. [`Phase::Output`]: progress reporting (only when a [`Progress`] resource exists).
+//!
+//! Systems run on a single thread in this order, with ambiguity detection set to error: two
+//! unordered writers of one resource would fail to build rather than race.
+
+mod cloth_components;
+mod force_systems;
+
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
+
+pub use cloth_components::{
+    Clock, ClothNodes, ClothState, EFFECT_NAMES, Effect, EffectLedger, Failure, Physics, SimulationFailure,
+};
+pub use force_systems::{apply_effect, prepare_forces, push_forces, step_rapier};
+
+use crate::forces::{AirDrag, Bending, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising};
+use crate::measure::{Progress, measure_motion, report_progress, update_settle};
+
+/// The phases of one step, run in this order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Phase {
+    /// 1. Read state from Rapier, clear forces.
+    Prepare,
+    /// 2. Our force generators, each gated by its effect.
+    Forces,
+    /// 3. Rapier's step.
+    Step,
+    /// 4. Measurements and guards.
+    Measure,
+    /// 5. Progress and other per-step output.
+    Output,
+}
+
+/// Builds the step schedule. Systems for every effect are present; each runs only where its
+/// [`Effect`] component exists, so effects a scene leaves out cost one run-condition check.
+pub fn build_step_schedule() -> Schedule {
+    let mut schedule = Schedule::default();
+    schedule.set_build_settings(ScheduleBuildSettings {
+        ambiguity_detection: LogLevel::Error,
+        ..Default::default()
+    });
+    schedule.configure_sets(
+        (
+            Phase::Prepare,
+            Phase::Forces,
+            Phase::Step,
+            Phase::Measure,
+            Phase::Output,
+        )
+            .chain(),
+    );
+    schedule.add_systems(prepare_forces.in_set(Phase::Prepare));
+    schedule.add_systems(
+        (
+            apply_effect::<Bending>.run_if(any_with_component::<Effect<Bending>>),
+            apply_effect::<Trellising>.run_if(any_with_component::<Effect<Trellising>>),
+            apply_effect::<SeedSeparation>.run_if(any_with_component::<Effect<SeedSeparation>>),
+            apply_effect::<KesTensile>.run_if(any_with_component::<Effect<KesTensile>>),
+            apply_effect::<LinkCompression>.run_if(any_with_component::<Effect<LinkCompression>>),
+            apply_effect::<LinkDamping>.run_if(any_with_component::<Effect<LinkDamping>>),
+            apply_effect::<AirDrag>.run_if(any_with_component::<Effect<AirDrag>>),
+            push_forces,
+        )
+            .chain()
+            .in_set(Phase::Forces),
+    );
+    schedule.add_systems(step_rapier.in_set(Phase::Step));
+    schedule.add_systems((measure_motion, update_settle).chain().in_set(Phase::Measure));
+    schedule.add_systems(
+        report_progress
+            .run_if(resource_exists::<Progress>)
+            .in_set(Phase::Output),
+    );
+    schedule
+}

@@ -1,0 +1,120 @@
+//! Bad scene files: each in `tests/bad_scenes/` is rejected with the message its `// expect:`
+//! lines give (file, line/column or field, allowed range), without a panic, and the command
+//! exits non-zero.
+
+use std::process::Command;
+
+use kes_cloth::scene::Scene;
+
+mod common;
+
+fn bad_scenes() -> Vec<(std::path::PathBuf, Vec<String>)> {
+    let dir = common::crate_path("tests/bad_scenes");
+    let mut out: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            let expects = text
+                .lines()
+                .filter_map(|l| l.strip_prefix("// expect: "))
+                .map(String::from)
+                .collect();
+            (p, expects)
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn every_bad_scene_gives_its_expected_message() {
+    let cases = bad_scenes();
+    assert!(cases.len() >= 10);
+    for (path, expects) in cases {
+        assert!(!expects.is_empty(), "{}: no `// expect:` line", path.display());
+        let message = match std::panic::catch_unwind(|| Scene::load(&path, &[])) {
+            Ok(Err(e)) => e.to_string(),
+            Ok(Ok(_)) => panic!("{} was accepted", path.display()),
+            Err(_) => panic!("{} made the loader panic", path.display()),
+        };
+        assert!(
+            message.starts_with(&path.display().to_string()),
+            "message lacks the file: {message}"
+        );
+        for e in &expects {
+            assert!(
+                message.contains(e.as_str()),
+                "{}:\n  got      {message}\n  expected {e}",
+                path.display()
+            );
+        }
+    }
+}
+
+/// The command reports the same message on stderr and exits with a failure code, for `check`
+/// and for `run`.
+#[test]
+fn the_command_exits_non_zero_on_bad_scenes() {
+    for (path, expects) in bad_scenes() {
+        for sub in ["check", "run"] {
+            let mut cmd = Command::new(env!("CARGO_BIN_EXE_kes-cloth"));
+            cmd.args([sub, path.to_str().unwrap()]);
+            if sub == "run" {
+                cmd.arg("--quiet")
+                    .arg("--out")
+                    .arg(std::env::temp_dir().join("kes-cloth-bad-scene"));
+            }
+            let out = cmd.output().unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(!out.status.success(), "{sub} {} succeeded", path.display());
+            assert_eq!(
+                out.status.code(),
+                Some(1),
+                "{sub} {}: not a clean error exit: {stderr}",
+                path.display()
+            );
+            assert!(stderr.starts_with("error: "), "{stderr}");
+            assert!(
+                stderr.contains(expects[0].as_str()),
+                "{sub} {}: {stderr}",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
+    let path = common::crate_path("scenes/drape_wool.ron");
+    let s = Scene::load(
+        &path,
+        &[
+            "integration.dt_s=0.0005".into(),
+            "seed=7".into(),
+            "cloth.shape.diameter_m=0.2".into(),
+            "effects.stretch=Kes".into(),
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.spec.integration.dt_s, 0.0005);
+    assert_eq!(s.spec.seed, 7);
+    assert_eq!(
+        s.spec.cloth.shape,
+        kes_cloth::scene::ClothShape::Circle { diameter_m: 0.2 }
+    );
+    assert_eq!(s.spec.effects.stretch, kes_cloth::scene::StretchModel::Kes);
+    let e = Scene::load(&path, &["integration.dtt=1".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("--set integration.dtt=1: the scene has no field `integration.dtt`"),
+        "{e}"
+    );
+    let e = Scene::load(&path, &["integration.dt_s=-1".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("field `integration.dt_s` = -1"), "{e}");
+    let e = Scene::load(&path, &["seed=abc".into()]).unwrap_err().to_string();
+    assert!(e.contains("--set seed=abc"), "{e}");
+}
