@@ -27,6 +27,7 @@ pub mod forces;
 pub mod material;
 pub mod measure;
 pub mod output;
+pub mod repeat;
 mod ron_file;
 pub mod run;
 pub mod scene;

@@ -12,7 +12,7 @@ use crate::forces::{
     AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, LinkCompression, LinkDamping,
     SeedSeparation, Trellising,
 };
-use crate::measure::{Motion, Progress, SettleState};
+use crate::measure::{DrapeMeasurement, Motion, Progress, SettleState, measure_drape, project};
 use crate::output::{
     EffectCost, FailureReport, Metrics, OutputError, TopViewOutline, write_obj, write_top_view,
 };
@@ -35,6 +35,8 @@ pub struct RunOutcome {
     pub topology: Arc<ClothTopology>,
     /// Final node positions (m); finite unless the run failed.
     pub positions: Vec<DVec3>,
+    /// The drape test's measurement, for scenes with a drapemeter disk (a cylinder).
+    pub drape: Option<DrapeMeasurement>,
 }
 
 /// A run that stopped on a non-finite value.
@@ -93,6 +95,16 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
         Some(s) => (s.topology.clone(), s.positions.clone()),
         None => (Arc::new(ClothTopology::rectangle(0, 0, 1.0)), Vec::new()),
     };
+    let drape = if failure.is_none() {
+        measure_scene_drape(scene, &topology, &positions)
+    } else {
+        None
+    };
+    let table = if failure.is_none() {
+        measure_scene_table(scene, &topology, &positions)
+    } else {
+        None
+    };
     let metrics = Metrics {
         scene: scene.spec.name.clone(),
         fabric: scene.fabric.name.clone(),
@@ -119,8 +131,14 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
         max_speed_m_per_s: motion.max_speed,
         window_speed_m_per_s: settle.window_speed,
         kinetic_energy_j: motion.kinetic_energy,
-        drape_coefficient: None,
-        nodes: None,
+        drape_coefficient: drape.as_ref().map(|d| d.drape_coefficient),
+        nodes: drape.as_ref().map(|d| d.nodes),
+        outline_min_radius_m: drape.as_ref().map(|d| d.min_radius),
+        outline_max_radius_m: drape.as_ref().map(|d| d.max_radius),
+        fold_amplitude_m: drape.as_ref().map(|d| d.fold_amplitude),
+        hang_corners_m: table.map(|t| t.0),
+        hang_mid_sides_m: table.map(|t| t.1),
+        skirt_folds: table.map(|t| t.2),
         effects: ledger
             .entries
             .iter()
@@ -140,7 +158,80 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
         metrics,
         topology,
         positions,
+        drape,
     }
+}
+
+/// For a square cloth on a table (a table-sized box, and no drapemeter disk): the mean hang of
+/// the four corners and of the four mid-sides below the table top (m), and the skirt's folds.
+fn measure_scene_table(
+    scene: &Scene,
+    topology: &ClothTopology,
+    positions: &[DVec3],
+) -> Option<(f64, f64, u32)> {
+    if drapemeter_disk(scene).is_some()
+        || !matches!(scene.spec.cloth.shape, crate::scene::ClothShape::Square { .. })
+    {
+        return None;
+    }
+    let (centre, half) = scene.spec.world.colliders.iter().find_map(|c| match c.shape {
+        ColliderShape::Cuboid { half_extents_m: h } if h[0] < 1.0 && h[2] < 1.0 => Some((c.centre_m, h)),
+        _ => None,
+    })?;
+    let top = centre[1] + half[1];
+    let n = topology.grid_coords.iter().map(|&(i, _)| i).max()?;
+    let mid = n / 2;
+    let at = |i: u32, j: u32| {
+        topology
+            .grid_coords
+            .iter()
+            .position(|&c| c == (i, j))
+            .map(|p| top - positions[p].y)
+    };
+    let mean = |pts: [(u32, u32); 4]| -> Option<f64> {
+        let hangs: Option<Vec<f64>> = pts.iter().map(|&(i, j)| at(i, j)).collect();
+        hangs.map(|h| h.iter().sum::<f64>() / 4.0)
+    };
+    let corners = mean([(0, 0), (n, 0), (0, n), (n, n)])?;
+    let sides = mean([(mid, 0), (0, mid), (n, mid), (mid, n)])?;
+    let skirt = crate::measure::measure_skirt(
+        &project(&topology.triangles, positions),
+        glam::DVec2::new(centre[0], centre[2]),
+        glam::DVec2::new(half[0], half[2]),
+        topology.spacing / 50.0,
+        2.0 * topology.spacing,
+    );
+    Some((corners, sides, skirt.folds))
+}
+
+/// Centre (x, z) (m) and radius (m) of the scene's drapemeter disk: its first cylinder.
+fn drapemeter_disk(scene: &Scene) -> Option<(glam::DVec2, f64)> {
+    scene.spec.world.colliders.iter().find_map(|c| match c.shape {
+        ColliderShape::Cylinder { radius_m, .. } => {
+            Some((glam::DVec2::new(c.centre_m[0], c.centre_m[2]), radius_m))
+        }
+        _ => None,
+    })
+}
+
+/// Measures the drape around the scene's first cylinder (the drapemeter disk), if it has one.
+fn measure_scene_drape(
+    scene: &Scene,
+    topology: &ClothTopology,
+    positions: &[DVec3],
+) -> Option<DrapeMeasurement> {
+    let disk = drapemeter_disk(scene)?;
+    let (_, flat) = crate::scene::spawn::cloth_grid(scene);
+    // Rows σ/50 apart: the row rule's error is then far below the mesh's (docs/validation.md).
+    let dz = topology.spacing / 50.0;
+    Some(measure_drape(
+        &project(&topology.triangles, positions),
+        &project(&topology.triangles, &flat),
+        disk.0,
+        disk.1,
+        dz,
+        2.0 * topology.spacing,
+    ))
 }
 
 /// Re-evaluates each effect on the cloth's current state, alone, and names the first whose
@@ -205,12 +296,22 @@ pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<
                 }
             })
             .collect();
+        let markers: Vec<[f64; 2]> = match (&outcome.drape, drapemeter_disk(scene)) {
+            (Some(d), Some((centre, _))) => d
+                .node_angles
+                .iter()
+                .zip(&d.node_radii)
+                .map(|(a, r)| [centre.x + r * a.cos(), centre.y + r * a.sin()])
+                .collect(),
+            _ => Vec::new(),
+        };
         write_top_view(
             dir,
             out.image_size_px,
             &outcome.topology,
             &outcome.positions,
             &outlines,
+            &markers,
         )?;
     }
     Ok(())
@@ -244,6 +345,21 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.window_speed_m_per_s
             .map_or("-".to_string(), |v| format!("{:.2} mm/s", v * 1e3))
     );
+    if let (Some(dc), Some(n)) = (m.drape_coefficient, m.nodes) {
+        let tag = if m.settled {
+            ""
+        } else {
+            " (provisional: not settled)"
+        };
+        s += &format!("  drape coefficient {dc:.3}, {n} nodes{tag}\n");
+    }
+    if let (Some(c), Some(side), Some(f)) = (m.hang_corners_m, m.hang_mid_sides_m, m.skirt_folds) {
+        s += &format!(
+            "  hang: corners {:.1} mm, mid-sides {:.1} mm; {f} skirt folds\n",
+            c * 1e3,
+            side * 1e3
+        );
+    }
     let ours: f64 = m
         .effects
         .iter()

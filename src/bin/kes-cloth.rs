@@ -42,6 +42,10 @@ enum Command {
         /// No progress bar and no summary.
         #[arg(long)]
         quiet: bool,
+        /// Repeat the run with seeds 0..N-1 of the initial perturbation (on all cores), write
+        /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
+        #[arg(long, value_name = "N")]
+        repeat: Option<usize>,
     },
     /// Validate a scene and print its resolved parameters in SI, without running it.
     Check {
@@ -61,12 +65,16 @@ fn main() -> ExitCode {
             out,
             set,
             quiet,
+            repeat,
         } => {
             let scene = match Scene::load(&scene, &set) {
                 Ok(s) => s,
                 Err(e) => return fail(&e),
             };
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.spec.name));
+            if let Some(n) = repeat {
+                return run_repeats(&scene, n, &dir, quiet);
+            }
             let options = RunOptions {
                 progress: !quiet && std::io::stderr().is_terminal(),
             };
@@ -90,6 +98,62 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&e),
         },
+    }
+}
+
+fn run_repeats(scene: &Scene, n: usize, dir: &std::path::Path, quiet: bool) -> ExitCode {
+    if n == 0 {
+        return fail(&"--repeat needs at least 1 run");
+    }
+    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
+    if !quiet {
+        eprintln!("running {n} seeds of {} on {threads} threads...", scene.spec.name);
+    }
+    let outcomes = kes_cloth::repeat::simulate_repeats(scene, n, threads);
+    let mut failed = None;
+    for (seed, o) in outcomes.iter().enumerate() {
+        if let Err(e) = write_outputs(scene, o, &dir.join(format!("seed-{seed}"))) {
+            return fail(&e);
+        }
+        if !quiet {
+            let m = &o.metrics;
+            let dc = m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}"));
+            let nodes = m.nodes.map_or("-".into(), |v| v.to_string());
+            let settled = if m.settled {
+                format!("settled at {:.2} s", m.settle_time_s.unwrap_or(0.0))
+            } else {
+                "NOT settled".into()
+            };
+            println!(
+                "  seed {seed}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
+                m.wall_time_s
+            );
+        }
+        if let Some(f) = &o.metrics.failure {
+            failed = Some(f.clone());
+        }
+    }
+    let summary = kes_cloth::repeat::summarise(&outcomes);
+    let path = dir.join("repeat.json");
+    let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+    if let Err(e) = std::fs::write(&path, text + "\n") {
+        return fail(&format!("{}: cannot write: {e}", path.display()));
+    }
+    if !quiet {
+        let modal = summary.modal_nodes.map_or("-".into(), |v| v.to_string());
+        let dc = match (summary.dc_mean, summary.dc_std) {
+            (Some(m), Some(s)) => format!("{m:.3} ± {s:.3}"),
+            _ => "-".into(),
+        };
+        println!(
+            "{}: {} runs, {} settled; modal nodes {modal}, DC {dc}",
+            scene.spec.name, summary.runs, summary.settled
+        );
+        println!("  wrote {}", dir.display());
+    }
+    match failed {
+        Some(f) => fail(&kes_cloth::run::DivergenceError(f)),
+        None => ExitCode::SUCCESS,
     }
 }
 

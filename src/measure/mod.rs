@@ -1,11 +1,16 @@
 //! Measurements of the cloth: motion, strain and height each step, the settle criterion, and
 //! per-step progress.
 
+mod drape;
 mod motion;
 mod penetration;
 mod progress;
 mod settle;
 
+pub use drape::{
+    DrapeMeasurement, NODE_PROMINENCE, SkirtMeasurement, measure_drape, measure_skirt, peaks, project,
+    union_area,
+};
 pub use motion::{Motion, link_strains, measure_motion};
 pub use penetration::{depth_inside, max_penetration};
 pub use progress::{Progress, report_progress};

@@ -69,10 +69,23 @@ pub struct Metrics {
     pub window_speed_m_per_s: Option<f64>,
     /// Kinetic energy at the end (J).
     pub kinetic_energy_j: f64,
-    /// Drape coefficient (dimensionless), once measured.
+    /// Drape coefficient (dimensionless), for scenes with a drapemeter disk; provisional when
+    /// `settled` is false.
     pub drape_coefficient: Option<f64>,
-    /// Number of folds (nodes) of the drape, once measured.
+    /// Number of folds (nodes) of the drape's outline (see `measure/drape.rs`).
     pub nodes: Option<u32>,
+    /// Smallest radius of the smoothed shadow outline around the disk centre (m).
+    pub outline_min_radius_m: Option<f64>,
+    /// Largest radius of the smoothed shadow outline (m).
+    pub outline_max_radius_m: Option<f64>,
+    /// Fold amplitude, (max − min)/2 of the outline radius (m).
+    pub fold_amplitude_m: Option<f64>,
+    /// Tablecloths: mean hang of the four corners below the table top (m).
+    pub hang_corners_m: Option<f64>,
+    /// Tablecloths: mean hang of the four mid-sides below the table top (m).
+    pub hang_mid_sides_m: Option<f64>,
+    /// Tablecloths: folds of the skirt around the table (see `measure/drape.rs`).
+    pub skirt_folds: Option<u32>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
     /// Set when the run stopped on a non-finite value.

@@ -28,13 +28,15 @@ pub enum TopViewOutline {
     },
 }
 
-/// Renders `dir/top.png` (`size` × `size` pixels): x to the right, z down the image.
+/// Renders `dir/top.png` (`size` × `size` pixels): x to the right, z down the image, with red
+/// dots at `markers` (x, z) (m), e.g. the counted nodes.
 pub fn write_top_view(
     dir: &Path,
     size: u32,
     topology: &ClothTopology,
     positions: &[DVec3],
     outlines: &[TopViewOutline],
+    markers: &[[f64; 2]],
 ) -> Result<(), OutputError> {
     let path = dir.join("top.png");
     let err = |e: &dyn std::fmt::Display| OutputError::new(&path, e);
@@ -107,5 +109,13 @@ pub fn write_top_view(
             .draw_series(LineSeries::new(ring, BLACK.stroke_width(2)))
             .map_err(|e| err(&e))?;
     }
+    let dot = (size / 80).max(3) as i32;
+    chart
+        .draw_series(
+            markers
+                .iter()
+                .map(|m| Circle::new((m[0], m[1]), dot, RED.filled())),
+        )
+        .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))
 }

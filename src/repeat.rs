@@ -1,0 +1,92 @@
+//! Repeat runs, like a laboratory: the same scene with seeds 0..N−1 of the initial
+//! perturbation, on all cores, summarised as the modal node count and the mean and spread of DC.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use serde::Serialize;
+
+use crate::run::{RunOptions, RunOutcome, simulate};
+use crate::scene::Scene;
+
+/// The distribution of a drape result over repeats.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RepeatSummary {
+    /// Number of runs.
+    pub runs: usize,
+    /// How many of them settled.
+    pub settled: usize,
+    /// Most frequent node count (the smaller on a tie), if measured.
+    pub modal_nodes: Option<u32>,
+    /// Node count of each run, by seed.
+    pub nodes: Vec<Option<u32>>,
+    /// DC of each run, by seed.
+    pub drape_coefficients: Vec<Option<f64>>,
+    /// Mean DC over the runs that measured one.
+    pub dc_mean: Option<f64>,
+    /// Sample standard deviation of DC (0 for a single run).
+    pub dc_std: Option<f64>,
+}
+
+/// Runs `scene` with seeds 0..n−1 on `threads` threads; outcomes are in seed order.
+pub fn simulate_repeats(scene: &Scene, n: usize, threads: usize) -> Vec<RunOutcome> {
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<RunOutcome>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..threads.clamp(1, n.max(1)) {
+            s.spawn(|| {
+                loop {
+                    let seed = next.fetch_add(1, Ordering::Relaxed);
+                    if seed >= n {
+                        break;
+                    }
+                    let mut run = scene.clone();
+                    run.spec.seed = seed as u64;
+                    let outcome = simulate(&run, &RunOptions::default());
+                    if let Ok(mut r) = results.lock() {
+                        r[seed] = Some(outcome);
+                    }
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .map(|r| r.into_iter().flatten().collect())
+        .unwrap_or_default()
+}
+
+/// Summarises repeat outcomes.
+pub fn summarise(outcomes: &[RunOutcome]) -> RepeatSummary {
+    let nodes: Vec<Option<u32>> = outcomes.iter().map(|o| o.metrics.nodes).collect();
+    let dcs: Vec<Option<f64>> = outcomes.iter().map(|o| o.metrics.drape_coefficient).collect();
+    let mut counts = std::collections::BTreeMap::new();
+    for n in nodes.iter().flatten() {
+        *counts.entry(*n).or_insert(0usize) += 1;
+    }
+    let modal_nodes = counts
+        .iter()
+        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))
+        .map(|(n, _)| *n);
+    let values: Vec<f64> = dcs.iter().flatten().copied().collect();
+    let (dc_mean, dc_std) = if values.is_empty() {
+        (None, None)
+    } else {
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let var = if values.len() > 1 {
+            values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64
+        } else {
+            0.0
+        };
+        (Some(mean), Some(var.sqrt()))
+    };
+    RepeatSummary {
+        runs: outcomes.len(),
+        settled: outcomes.iter().filter(|o| o.metrics.settled).count(),
+        modal_nodes,
+        nodes,
+        drape_coefficients: dcs,
+        dc_mean,
+        dc_std,
+    }
+}

@@ -1,0 +1,103 @@
+//! The seed's result, as tests that could fail: on the drapemeter, thick cotton forms fewer
+//! folds and keeps a higher drape coefficient than thin wool, over repeats like a laboratory's;
+//! and across fabrics, DC rises with the bending length c = (B/W)^(1/3).
+
+use kes_cloth::material::Thread;
+use kes_cloth::repeat::{RepeatSummary, simulate_repeats, summarise};
+use kes_cloth::run::{RunOptions, simulate};
+use kes_cloth::scene::Scene;
+
+mod common;
+
+const SEEDS: usize = 5;
+
+fn repeats(scene: &str) -> RepeatSummary {
+    let scene = Scene::load(common::crate_path(&format!("scenes/{scene}.ron")), &[]).unwrap();
+    let s = summarise(&simulate_repeats(&scene, SEEDS, 2));
+    assert_eq!(
+        s.settled, SEEDS,
+        "{}: every repeat must settle: {s:?}",
+        scene.spec.name
+    );
+    s
+}
+
+/// Thick cotton: fewer folds (modal count over five seeds) and a higher mean DC than thin wool,
+/// both inside the broad ranges drape laboratories report (cotton DC ≥ 0.6, wool ≤ 0.55,
+/// 3 to 12 nodes).
+fn check_cotton_against_wool(cotton: &RepeatSummary, wool: &RepeatSummary) {
+    let (cn, wn) = (cotton.modal_nodes.unwrap(), wool.modal_nodes.unwrap());
+    let (cdc, wdc) = (cotton.dc_mean.unwrap(), wool.dc_mean.unwrap());
+    assert!(cn < wn, "modal nodes: cotton {cn}, wool {wn}");
+    assert!(cdc > wdc, "mean DC: cotton {cdc:.3}, wool {wdc:.3}");
+    assert!(cdc >= 0.6, "cotton DC {cdc:.3}");
+    assert!(wdc <= 0.55, "wool DC {wdc:.3}");
+    for n in cotton.nodes.iter().chain(&wool.nodes) {
+        assert!((3..=12).contains(&n.unwrap()), "node count {n:?}");
+    }
+}
+
+#[test]
+fn thick_cotton_drapes_with_fewer_folds_than_thin_wool() {
+    check_cotton_against_wool(&repeats("drape_cotton"), &repeats("drape_wool"));
+}
+
+/// On the Cusick tester (30 cm on 18 cm) cotton keeps the higher mean DC, inside the same
+/// plausibility ranges. (Its node count is not yet below wool's there: the cotton skirt ripples
+/// at the scale of the mesh instead of forming a few large folds; see the issue note.)
+#[test]
+fn cotton_keeps_the_higher_drape_coefficient_on_the_cusick_tester() {
+    let (cotton, wool) = (repeats("cusick_cotton"), repeats("cusick_wool"));
+    let (cdc, wdc) = (cotton.dc_mean.unwrap(), wool.dc_mean.unwrap());
+    assert!(cdc > wdc, "mean DC: cotton {cdc:.3}, wool {wdc:.3}");
+    assert!(cdc >= 0.6 && wdc <= 0.55, "cotton {cdc:.3}, wool {wdc:.3}");
+}
+
+/// Across all shipped fabrics on the seed's drapemeter (seed 0), DC rank follows the warp
+/// bending length.
+#[test]
+fn drape_coefficient_rises_with_bending_length() {
+    let mut rows: Vec<(f64, f64, String)> = common::shipped_fabric_paths()
+        .iter()
+        .map(|path| {
+            let file = format!("fabric={{\"File\":\"{}\"}}", path.display());
+            let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[file]).unwrap();
+            let m = simulate(&scene, &RunOptions::default()).metrics;
+            assert!(m.settled, "{} did not settle", scene.fabric.name);
+            (
+                scene.fabric.bending_length(Thread::Warp),
+                m.drape_coefficient.unwrap(),
+                scene.fabric.name.clone(),
+            )
+        })
+        .collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for pair in rows.windows(2) {
+        assert!(
+            pair[0].1 < pair[1].1,
+            "DC does not rise with bending length: {rows:?}"
+        );
+    }
+}
+
+/// On the tablecloth, thick cotton's skirt forms fewer folds than thin wool's, and wool's
+/// corners hang lower (seed 0).
+#[test]
+fn cotton_tablecloth_skirt_has_fewer_folds_than_wool() {
+    let run = |name: &str| {
+        let scene = Scene::load(common::crate_path(&format!("scenes/{name}.ron")), &[]).unwrap();
+        let m = simulate(&scene, &RunOptions::default()).metrics;
+        assert!(m.settled, "{name} did not settle");
+        (m.skirt_folds.unwrap(), m.hang_corners_m.unwrap())
+    };
+    let (cotton_folds, cotton_hang) = run("tablecloth_cotton");
+    let (wool_folds, wool_hang) = run("tablecloth_wool");
+    assert!(
+        cotton_folds < wool_folds,
+        "skirt folds: cotton {cotton_folds}, wool {wool_folds}"
+    );
+    assert!(
+        wool_hang > cotton_hang,
+        "corner hang: cotton {cotton_hang}, wool {wool_hang}"
+    );
+}
