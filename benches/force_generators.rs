@@ -9,8 +9,8 @@ use std::sync::Arc;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use kes_cloth::forces::{
-    Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, SeedSeparation,
-    Trellising,
+    Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, LinkCompression,
+    LinkDamping, SeedSeparation, Trellising,
 };
 use kes_cloth::material::Fabric;
 
@@ -40,11 +40,22 @@ fn bench(c: &mut Criterion) {
     let trellising = Trellising::new(topo.clone(), &fabric);
     let kes = KesTensile::new(topo.clone(), &fabric);
     let seed = SeedSeparation::new(topo.clone(), &fabric);
+    // The shipped scenes' set: stretch by Rapier joints plus our compression spring, damping.
+    let node_mass = fabric.areal_density * SIGMA * SIGMA;
+    let compression = LinkCompression::new(
+        topo.clone(),
+        LinkCompression::stable_stiffness(node_mass, 0.00025),
+    );
+    let damping = LinkDamping::new(topo.clone(), 150.0, node_mass);
 
     let mut group = c.benchmark_group("force_generators_100x100");
     group.throughput(Throughput::Elements((N * N) as u64));
-    let sets: [(&str, Vec<&dyn ForceGenerator>); 7] = [
+    let sets: [(&str, Vec<&dyn ForceGenerator>); 8] = [
         ("geometry_only", vec![]),
+        (
+            "shipped_scene_set",
+            vec![&bending, &trellising, &compression, &damping],
+        ),
         ("bending_trellising", vec![&bending, &trellising]),
         ("all_kes_tensile", vec![&bending, &trellising, &kes]),
         ("all_seed_separation", vec![&bending, &trellising, &seed]),
