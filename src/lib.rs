@@ -14,8 +14,39 @@
 //!                        positions ──► forces::ClothGeometry ──► forces (N) per particle
 //! ```
 //!
+//! A scene then runs step by step:
+//!
+//! ```text
+//!  scenes/*.ron ──► scene::Scene ──► embed::ClothBuilder ──► Rapier bodies + joints (bodies)
+//!                                                   └──► cloth entity with Effect<G> components
+//!  each step (schedule::Phase): prepare ─► forces (one system per effect) ─► Rapier step
+//!                               ─► measure (motion, settle, finite guard) ─► output (progress)
+//!  at rest: measure::measure_drape ─► output (metrics.json, final.obj, top.png)
+//! ```
+//!
+//! ## Three ways in
+//! 1. **A scene file**: `kes-cloth run scenes/drape_wool.ron`, or [`run::simulate`] on a
+//!    [`scene::Scene`].
+//! 2. **Your bevy_ecs world**: [`embed::install`] adds our systems to your `Schedule` in the
+//!    [`schedule::Phase`] sets; [`embed::spawn_cloth`] spawns a cloth built by
+//!    [`embed::ClothBuilder::build_parts`]; [`scene::spawn::insert_resources`] adds the resources
+//!    (your Rapier world among them). See `examples/embed_ecs.rs`.
+//! 3. **A plain Rapier loop**: [`embed::ClothBuilder::build`] adds a cloth to your
+//!    `PhysicsWorld` and returns an [`embed::KesCloth`]; call [`embed::KesCloth::step`] each
+//!    frame (or [`embed::KesCloth::apply_forces`] before your own `world.step()`). See
+//!    `examples/embed_rapier.rs`, `examples/flag.rs`, `examples/custom_fabric.rs`.
+//!
+//! Our forces are explicit at Rapier's step: use one solver substep
+//! (`num_solver_iterations = 1`) and a step the fabric allows (`docs/rapier.md`, `docs/model.md`).
+//!
+//! ## Modules
 //! - [`material`]: KES data, its conversion to SI, the elastic curves.
 //! - [`forces`]: one force generator per effect, behind [`forces::ForceGenerator`].
+//! - [`scene`]: the RON schema, validation, `--set`, spawning.
+//! - [`schedule`]: the step's phases and systems.
+//! - [`bodies`]: cloth nodes as Rapier bodies (the one place that knows how).
+//! - [`embed`]: the builder, the plain-Rapier cloth and the bevy_ecs installer.
+//! - [`measure`], [`output`], [`run`], [`repeat`]: measurements, files, running, repeats.
 //!
 //! All quantities are SI (N, m, kg, s, rad) unless a name or doc says otherwise.
 
@@ -23,6 +54,7 @@
 #![warn(missing_docs)]
 
 pub mod bodies;
+pub mod embed;
 pub mod forces;
 pub mod material;
 pub mod measure;

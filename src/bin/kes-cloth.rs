@@ -14,7 +14,13 @@ use kes_cloth::scene::Scene;
 /// cloth sample, the rigid world (drapemeter disk, table, floor) and the effects to simulate.
 /// Everything inside is SI; only the fabric files speak KES units.
 #[derive(Parser)]
-#[command(name = "kes-cloth", version, about, long_about)]
+#[command(
+    name = "kes-cloth",
+    version,
+    about,
+    long_about,
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

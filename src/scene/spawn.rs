@@ -1,48 +1,46 @@
 //! Turning a validated [`Scene`] into a bevy_ecs `World`: the Rapier world as a resource, the
-//! cloth as an entity carrying one component per effect the scene asks for.
-
-use std::sync::Arc;
+//! cloth as an entity carrying one component per effect the scene asks for. The cloth itself is
+//! made by the same [`ClothBuilder`] that embedding users call.
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
-use rand::Rng;
-use rand_chacha::ChaCha8Rng;
-use rand_chacha::rand_core::SeedableRng;
 use rapier3d::prelude::PhysicsWorld;
 
-use super::{ClothShape, ColliderShape, Scene, StretchModel};
-use crate::bodies::{ClothBodies, NodeOptions, WorldShape, add_world_collider, configure_world};
-use crate::forces::{
-    AirDrag, Bending, ClothTopology, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
-};
+use super::{ClothShape, ColliderShape, Scene};
+use crate::bodies::{WorldShape, add_world_collider, configure_world};
+use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
+use crate::forces::ClothTopology;
 use crate::measure::{Motion, SettleState};
-use crate::schedule::{Clock, ClothNodes, ClothState, Effect, EffectLedger, Failure, Physics};
+use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 
-/// The woven grid of a cloth shape and its flat node positions (m), before perturbation.
-pub fn cloth_grid(scene: &Scene) -> (ClothTopology, Vec<DVec3>) {
+/// The scene's cloth as a [`ClothBuilder`] (fabric, outline, spacing, pose, perturbation,
+/// effects).
+pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
     let c = &scene.spec.cloth;
-    let sigma = c.spacing_m;
-    let (n, half, keep_radius) = match c.shape {
-        ClothShape::Circle { diameter_m } => {
-            let k = (diameter_m / 2.0 / sigma + 1e-9).floor() as usize;
-            (2 * k + 1, k as f64, Some(diameter_m / 2.0))
-        }
-        ClothShape::Square { side_m } => {
-            let n = (side_m / sigma).round() as usize + 1;
-            (n, (n - 1) as f64 / 2.0, None)
-        }
+    let fx = &scene.spec.effects;
+    let outline = match c.shape {
+        ClothShape::Circle { diameter_m } => ClothOutline::Circle(diameter_m),
+        ClothShape::Square { side_m } => ClothOutline::Rectangle {
+            warp: side_m,
+            weft: side_m,
+        },
     };
-    let topology = ClothTopology::from_mask(n, n, sigma, |i, j| {
-        let (x, z) = ((i as f64 - half) * sigma, (j as f64 - half) * sigma);
-        keep_radius.is_none_or(|r| x * x + z * z <= r * r * (1.0 + 1e-9))
-    });
-    let angle = c.warp_angle_deg.to_radians();
-    let warp = DVec3::new(angle.cos(), 0.0, -angle.sin());
-    let weft = DVec3::new(angle.sin(), 0.0, angle.cos());
-    let centre = DVec3::from_array(c.centre_m);
-    let origin = centre - half * sigma * (warp + weft);
-    let positions = topology.rest_positions(origin, warp, weft);
-    (topology, positions)
+    ClothBuilder::new(scene.fabric.clone())
+        .outline(outline)
+        .spacing(c.spacing_m)
+        .pose(DVec3::from_array(c.centre_m), c.warp_angle_deg)
+        .node_radius(scene.node_radius())
+        .perturbation(c.perturbation_m, scene.spec.seed)
+        .stretch(fx.stretch)
+        .bending_and_trellising(fx.bending, fx.trellising)
+        .damping(fx.damping.map(|d| d.rate_per_s))
+        .air_drag(fx.air_drag.map(|a| a.coefficient_n_s_per_m3))
+        .collisions_and_gravity(fx.contact, fx.self_collision, fx.gravity)
+}
+
+/// The woven grid of the scene's cloth and its flat node positions (m), before perturbation.
+pub fn cloth_grid(scene: &Scene) -> (ClothTopology, Vec<DVec3>) {
+    cloth_builder(scene).grid()
 }
 
 /// The scene's colliders as true shapes (m) with their centres (m).
@@ -74,9 +72,8 @@ pub fn world_shapes(scene: &Scene) -> Vec<(WorldShape, DVec3)> {
 /// Builds the ECS world for `scene`: returns it with the cloth's entity.
 pub fn spawn(scene: &Scene) -> (World, Entity) {
     let spec = &scene.spec;
-    let fx = &spec.effects;
-    let mut physics = PhysicsWorld::default();
     let i = &spec.integration;
+    let mut physics = PhysicsWorld::default();
     configure_world(
         &mut physics,
         spec.world.gravity_m_per_s2,
@@ -84,79 +81,34 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         i.solver_iterations,
         i.internal_pgs_iterations,
     );
-
     let radius = scene.node_radius();
     for (col, (shape, _)) in spec.world.colliders.iter().zip(world_shapes(scene)) {
-        let mu = if fx.friction { col.friction } else { 0.0 };
+        let mu = if spec.effects.friction { col.friction } else { 0.0 };
         add_world_collider(&mut physics, shape, col.centre_m, mu, radius);
     }
-
-    let (topology, mut positions) = cloth_grid(scene);
-    let topology = Arc::new(topology);
-    if spec.cloth.perturbation_m > 0.0 {
-        let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
-        for p in &mut positions {
-            p.y += spec.cloth.perturbation_m * rng.random_range(-1.0..=1.0);
-        }
-    }
-    let sigma = topology.spacing;
-    let node_mass = scene.fabric.areal_density * sigma * sigma;
-    let options = NodeOptions {
-        mass: node_mass,
-        radius,
-        rope_links: fx.stretch == StretchModel::Constraint,
-        contact: fx.contact,
-        self_collision: fx.self_collision,
-        gravity: fx.gravity,
-    };
-    let bodies = ClothBodies::spawn(&mut physics, &topology, &positions, &options);
-
+    let parts = cloth_builder(scene).build_parts(&mut physics);
     let mut world = World::new();
-    let mut cloth = world.spawn((ClothState::new(topology.clone(), positions), ClothNodes(bodies)));
-    let fabric = &scene.fabric;
-    if fx.bending {
-        cloth.insert(Effect(Bending::new(topology.clone(), fabric)));
-    }
-    if fx.trellising {
-        cloth.insert(Effect(Trellising::new(topology.clone(), fabric)));
-    }
-    match fx.stretch {
-        StretchModel::Constraint => {
-            let k = LinkCompression::stable_stiffness(node_mass, i.dt_s);
-            cloth.insert(Effect(LinkCompression::new(topology.clone(), k)));
-        }
-        StretchModel::Seed => {
-            cloth.insert(Effect(SeedSeparation::new(topology.clone(), fabric)));
-        }
-        StretchModel::Kes => {
-            cloth.insert(Effect(KesTensile::new(topology.clone(), fabric)));
-        }
-    }
-    if let Some(d) = fx.damping {
-        cloth.insert(Effect(LinkDamping::new(
-            topology.clone(),
-            d.rate_per_s,
-            node_mass,
-        )));
-    }
-    if let Some(a) = fx.air_drag {
-        cloth.insert(Effect(AirDrag::new(a.coefficient_n_s_per_m3, sigma)));
-    }
-    let entity = cloth.id();
+    let entity = spawn_cloth(&mut world, parts);
+    insert_resources(&mut world, physics, &i.settle);
+    (world, entity)
+}
 
-    world.insert_resource(Physics(physics));
+/// Inserts the resources kes-cloth's systems need: the Rapier world (its
+/// `integration_parameters.dt` is the step), the clock, the effect ledger, motion statistics,
+/// the failure slot and the settle tracker.
+pub fn insert_resources(world: &mut World, physics: PhysicsWorld, settle: &super::SettleSpec) {
     world.insert_resource(Clock {
-        dt: i.dt_s,
+        dt: physics.integration_parameters.dt as f64,
         step: 0,
         time: 0.0,
     });
+    world.insert_resource(Physics(physics));
     world.insert_resource(EffectLedger::with_all_effects());
     world.insert_resource(Motion::default());
     world.insert_resource(Failure::default());
     world.insert_resource(SettleState::new(
-        i.settle.max_speed_m_per_s,
-        i.settle.hold_s,
-        i.settle.min_time_s,
+        settle.max_speed_m_per_s,
+        settle.hold_s,
+        settle.min_time_s,
     ));
-    (world, entity)
 }

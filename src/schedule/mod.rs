@@ -52,6 +52,13 @@ pub fn build_step_schedule() -> Schedule {
         ambiguity_detection: LogLevel::Error,
         ..Default::default()
     });
+    add_step_systems(&mut schedule);
+    schedule
+}
+
+/// Adds the phases and every per-step system to an existing schedule (the bevy_ecs way in:
+/// see [`crate::embed::install`]).
+pub fn add_step_systems(schedule: &mut Schedule) {
     schedule.configure_sets(
         (
             Phase::Prepare,
@@ -84,5 +91,4 @@ pub fn build_step_schedule() -> Schedule {
             .run_if(resource_exists::<Progress>)
             .in_set(Phase::Output),
     );
-    schedule
 }

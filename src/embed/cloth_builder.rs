@@ -1,0 +1,281 @@
+//! Building a KES cloth inside a Rapier world.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::SeedableRng;
+use rapier3d::prelude::*;
+
+use crate::bodies::{ClothBodies, NodeOptions};
+use crate::forces::{
+    AirDrag, Bending, ClothTopology, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
+};
+use crate::material::Fabric;
+use crate::scene::StretchModel;
+use crate::schedule::ClothState;
+
+/// Outline of the flat cloth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClothOutline {
+    /// A circle of this diameter (m).
+    Circle(f64),
+    /// A rectangle, `warp` (m) along the warp and `weft` (m) along the weft.
+    Rectangle {
+        /// Length along the warp (m).
+        warp: f64,
+        /// Length along the weft (m).
+        weft: f64,
+    },
+}
+
+/// A node held to a rigid body (fixed, kinematic or dynamic) by a ball joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pin {
+    /// Grid coordinates (i along the warp, j along the weft) of the node, from the cloth's
+    /// (−warp, −weft) corner of its bounding square.
+    pub node: (u32, u32),
+    /// The body it hangs from.
+    pub body: RigidBodyHandle,
+    /// Where on that body, in the body's frame (m).
+    pub anchor: Vec3,
+}
+
+/// Everything a built cloth consists of: its state, its Rapier bodies, and one generator per
+/// effect it asked for.
+pub struct ClothParts {
+    /// Node state and force buffers.
+    pub state: ClothState,
+    /// The Rapier bodies and joints.
+    pub bodies: ClothBodies,
+    /// Bending (seed eq. 2), if asked for.
+    pub bending: Option<Bending>,
+    /// Trellising (seed eq. 3), if asked for.
+    pub trellising: Option<Trellising>,
+    /// The seed's separation stretch, if chosen.
+    pub stretch_seed: Option<SeedSeparation>,
+    /// The KES tensile stretch, if chosen.
+    pub stretch_kes: Option<KesTensile>,
+    /// Compression resistance of rope-jointed links (stretch as a constraint).
+    pub compression: Option<LinkCompression>,
+    /// Damping of relative motion, if asked for.
+    pub damping: Option<LinkDamping>,
+    /// Air drag, if asked for.
+    pub air_drag: Option<AirDrag>,
+}
+
+/// Builds a KES cloth into a Rapier world. Defaults: a 0.3 m square, 1 cm spacing, centred at
+/// the origin, warp along +x, stretch as a constraint, bending and trellising on, link damping
+/// 150/s, contact with the world on, no self-collision, gravity on, no pins.
+#[derive(Clone, Debug)]
+pub struct ClothBuilder {
+    fabric: Fabric,
+    outline: ClothOutline,
+    spacing: f64,
+    centre: DVec3,
+    warp_angle_deg: f64,
+    node_radius: Option<f64>,
+    perturbation: (f64, u64),
+    stretch: StretchModel,
+    bending: bool,
+    trellising: bool,
+    damping: Option<f64>,
+    air_drag: Option<f64>,
+    contact: bool,
+    self_collision: bool,
+    gravity: bool,
+    pins: Vec<Pin>,
+}
+
+impl ClothBuilder {
+    /// A cloth of `fabric` with the defaults above.
+    pub fn new(fabric: Fabric) -> Self {
+        Self {
+            fabric,
+            outline: ClothOutline::Rectangle { warp: 0.3, weft: 0.3 },
+            spacing: 0.01,
+            centre: DVec3::ZERO,
+            warp_angle_deg: 0.0,
+            node_radius: None,
+            perturbation: (0.0, 0),
+            stretch: StretchModel::Constraint,
+            bending: true,
+            trellising: true,
+            damping: Some(150.0),
+            air_drag: None,
+            contact: true,
+            self_collision: false,
+            gravity: true,
+            pins: Vec::new(),
+        }
+    }
+
+    /// The flat outline.
+    pub fn outline(mut self, outline: ClothOutline) -> Self {
+        self.outline = outline;
+        self
+    }
+
+    /// σ, node spacing (m).
+    pub fn spacing(mut self, spacing: f64) -> Self {
+        self.spacing = spacing;
+        self
+    }
+
+    /// Centre of the flat cloth (m) and angle of its warp from +x about +y (degrees); the cloth
+    /// lies horizontal.
+    pub fn pose(mut self, centre: DVec3, warp_angle_deg: f64) -> Self {
+        self.centre = centre;
+        self.warp_angle_deg = warp_angle_deg;
+        self
+    }
+
+    /// Contact radius of the nodes (m; default half the spacing).
+    pub fn node_radius(mut self, radius: f64) -> Self {
+        self.node_radius = Some(radius);
+        self
+    }
+
+    /// A seeded random vertical offset of up to `amplitude` (m) on every node.
+    pub fn perturbation(mut self, amplitude: f64, seed: u64) -> Self {
+        self.perturbation = (amplitude, seed);
+        self
+    }
+
+    /// How the threads resist stretch.
+    pub fn stretch(mut self, model: StretchModel) -> Self {
+        self.stretch = model;
+        self
+    }
+
+    /// Switches KES bending and trellising on or off.
+    pub fn bending_and_trellising(mut self, bending: bool, trellising: bool) -> Self {
+        self.bending = bending;
+        self.trellising = trellising;
+        self
+    }
+
+    /// Link damping rate (1/s), or `None` for none.
+    pub fn damping(mut self, rate: Option<f64>) -> Self {
+        self.damping = rate;
+        self
+    }
+
+    /// Air drag coefficient (N·s/m³), or `None` for none.
+    pub fn air_drag(mut self, coefficient: Option<f64>) -> Self {
+        self.air_drag = coefficient;
+        self
+    }
+
+    /// Contact with the world's colliders, self-collision, gravity.
+    pub fn collisions_and_gravity(mut self, contact: bool, self_collision: bool, gravity: bool) -> Self {
+        self.contact = contact;
+        self.self_collision = self_collision;
+        self.gravity = gravity;
+        self
+    }
+
+    /// Holds node (i, j) to `body` at `anchor` (body frame, m).
+    pub fn pin(mut self, node: (u32, u32), body: RigidBodyHandle, anchor: Vec3) -> Self {
+        self.pins.push(Pin { node, body, anchor });
+        self
+    }
+
+    /// The fabric.
+    pub fn fabric(&self) -> &Fabric {
+        &self.fabric
+    }
+
+    /// Nodes per side of the bounding grid.
+    fn grid_size(&self) -> (usize, usize) {
+        match self.outline {
+            ClothOutline::Circle(d) => {
+                let n = 2 * (d / 2.0 / self.spacing + 1e-9).floor() as usize + 1;
+                (n, n)
+            }
+            ClothOutline::Rectangle { warp, weft } => (
+                (warp / self.spacing).round() as usize + 1,
+                (weft / self.spacing).round() as usize + 1,
+            ),
+        }
+    }
+
+    /// The woven grid and its flat node positions (m), before any perturbation.
+    pub fn grid(&self) -> (ClothTopology, Vec<DVec3>) {
+        let sigma = self.spacing;
+        let (nu, nv) = self.grid_size();
+        let (hu, hv) = ((nu - 1) as f64 / 2.0, (nv - 1) as f64 / 2.0);
+        let radius = match self.outline {
+            ClothOutline::Circle(d) => Some(d / 2.0),
+            ClothOutline::Rectangle { .. } => None,
+        };
+        let topology = ClothTopology::from_mask(nu, nv, sigma, |i, j| {
+            let (x, z) = ((i as f64 - hu) * sigma, (j as f64 - hv) * sigma);
+            radius.is_none_or(|r| x * x + z * z <= r * r * (1.0 + 1e-9))
+        });
+        let angle = self.warp_angle_deg.to_radians();
+        let warp = DVec3::new(angle.cos(), 0.0, -angle.sin());
+        let weft = DVec3::new(angle.sin(), 0.0, angle.cos());
+        let origin = self.centre - hu * sigma * warp - hv * sigma * weft;
+        let positions = topology.rest_positions(origin, warp, weft);
+        (topology, positions)
+    }
+
+    /// Adds the cloth's bodies, joints and pins to `world` (whose `integration_parameters.dt`
+    /// must already be the step you will use: the compression spring is sized from it).
+    pub fn build_parts(self, world: &mut PhysicsWorld) -> ClothParts {
+        let (topology, mut positions) = self.grid();
+        let topology = Arc::new(topology);
+        let (amplitude, seed) = self.perturbation;
+        if amplitude > 0.0 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            for p in &mut positions {
+                p.y += amplitude * rng.random_range(-1.0..=1.0);
+            }
+        }
+        let sigma = topology.spacing;
+        let node_mass = self.fabric.areal_density * sigma * sigma;
+        let options = NodeOptions {
+            mass: node_mass,
+            radius: self.node_radius.unwrap_or(sigma / 2.0),
+            rope_links: self.stretch == StretchModel::Constraint,
+            contact: self.contact,
+            self_collision: self.self_collision,
+            gravity: self.gravity,
+        };
+        let bodies = ClothBodies::spawn(world, &topology, &positions, &options);
+        for pin in &self.pins {
+            if let Some(node) = topology.grid_coords.iter().position(|&c| c == pin.node) {
+                let joint = SphericalJointBuilder::new()
+                    .local_anchor1(pin.anchor)
+                    .local_anchor2(Vec3::ZERO)
+                    .contacts_enabled(false);
+                world.insert_impulse_joint(pin.body, bodies.handles[node], joint);
+            }
+        }
+        let dt = world.integration_parameters.dt as f64;
+        let fabric = &self.fabric;
+        let t = &topology;
+        ClothParts {
+            bending: self.bending.then(|| Bending::new(t.clone(), fabric)),
+            trellising: self.trellising.then(|| Trellising::new(t.clone(), fabric)),
+            stretch_seed: (self.stretch == StretchModel::Seed)
+                .then(|| SeedSeparation::new(t.clone(), fabric)),
+            stretch_kes: (self.stretch == StretchModel::Kes).then(|| KesTensile::new(t.clone(), fabric)),
+            compression: (self.stretch == StretchModel::Constraint)
+                .then(|| LinkCompression::new(t.clone(), LinkCompression::stable_stiffness(node_mass, dt))),
+            damping: self
+                .damping
+                .map(|rate| LinkDamping::new(t.clone(), rate, node_mass)),
+            air_drag: self.air_drag.map(|c| AirDrag::new(c, sigma)),
+            state: ClothState::new(topology.clone(), positions),
+            bodies,
+        }
+    }
+
+    /// Builds a cloth to drive from a plain Rapier loop.
+    pub fn build(self, world: &mut PhysicsWorld) -> super::KesCloth {
+        super::KesCloth::from_parts(self.build_parts(world))
+    }
+}

@@ -1,0 +1,79 @@
+//! A KES cloth driven from a plain Rapier loop.
+
+use glam::DVec3;
+use rapier3d::prelude::PhysicsWorld;
+
+use super::ClothParts;
+use crate::forces::ForceGenerator;
+
+/// A cloth in a user's Rapier world. Each frame: [`KesCloth::step`], or
+/// [`KesCloth::apply_forces`] followed by your own `world.step()`.
+pub struct KesCloth {
+    parts: ClothParts,
+}
+
+impl KesCloth {
+    /// Wraps built parts.
+    pub fn from_parts(parts: ClothParts) -> Self {
+        Self { parts }
+    }
+
+    /// Reads the nodes from `world`, computes every KES force, and hands them to Rapier for
+    /// the next step (N, held constant over it).
+    pub fn apply_forces(&mut self, world: &mut PhysicsWorld) {
+        let p = &mut self.parts;
+        let state = &mut p.state;
+        p.bodies.read(world, &mut state.positions, &mut state.velocities);
+        state.geometry.update(&state.positions);
+        state.forces.clear();
+        let generators: [Option<&dyn ForceGenerator>; 7] = [
+            p.bending.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.trellising.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.stretch_seed.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.stretch_kes.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.compression.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.damping.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.air_drag.as_ref().map(|g| g as &dyn ForceGenerator),
+        ];
+        for g in generators.into_iter().flatten() {
+            g.add_forces(&state.geometry, &state.velocities, &mut state.forces);
+        }
+        let forces = state.forces.resolve(&state.topology);
+        p.bodies.write_forces(world, forces);
+    }
+
+    /// [`Self::apply_forces`] then `world.step()`; afterwards [`Self::positions`] is current.
+    pub fn step(&mut self, world: &mut PhysicsWorld) {
+        self.apply_forces(world);
+        world.step();
+        let state = &mut self.parts.state;
+        self.parts
+            .bodies
+            .read(world, &mut state.positions, &mut state.velocities);
+    }
+
+    /// Node positions (m) as of the last read.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.parts.state.positions
+    }
+
+    /// Node velocities (m/s) as of the last read.
+    pub fn velocities(&self) -> &[DVec3] {
+        &self.parts.state.velocities
+    }
+
+    /// The lowest node's height (m).
+    pub fn lowest_point(&self) -> f64 {
+        self.positions().iter().map(|p| p.y).fold(f64::INFINITY, f64::min)
+    }
+
+    /// The cloth's parts (state, bodies, generators).
+    pub fn parts(&self) -> &ClothParts {
+        &self.parts
+    }
+
+    /// Gives the parts back, e.g. to move the cloth into a bevy_ecs world.
+    pub fn into_parts(self) -> ClothParts {
+        self.parts
+    }
+}
