@@ -47,7 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut world = World::new();
     let cloth = spawn_cloth(&mut world, parts);
-    kes_cloth::scene::spawn::insert_resources(&mut world, physics, &SettleSpec::default());
+    kes_cloth::scene::spawn::insert_resources(&mut world, physics, 1.0 / 4000.0, &SettleSpec::default());
     world.insert_resource(Hook(hook));
     let mut schedule = Schedule::default();
     install(&mut schedule);

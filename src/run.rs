@@ -62,10 +62,12 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
     loop {
         schedule.run(&mut world);
         if let Some(f) = world.resource::<Failure>().0.clone() {
-            let effect = if f.effect == "(forces)" {
-                diagnose_forces(&world, cloth).unwrap_or("unknown").to_string()
-            } else {
-                f.effect.clone()
+            let effect = match f.effect.as_str() {
+                "(forces)" => diagnose_forces(&world, cloth).unwrap_or("unknown").to_string(),
+                "(runaway)" => strongest_effect(&world, cloth, f.particle)
+                    .unwrap_or("rapier_step")
+                    .to_string(),
+                _ => f.effect.clone(),
             };
             failure = Some(FailureReport {
                 step: f.step,
@@ -232,6 +234,39 @@ fn measure_scene_drape(
         dz,
         2.0 * topology.spacing,
     ))
+}
+
+/// Re-evaluates each effect on the cloth's current state, alone, and names the one pushing
+/// hardest on `node`: in a runaway, the likeliest culprit.
+fn strongest_effect(world: &World, cloth: Entity, node: usize) -> Option<&'static str> {
+    fn force<G: ForceGenerator + 'static>(
+        world: &World,
+        cloth: Entity,
+        state: &ClothState,
+        node: usize,
+    ) -> Option<(f64, &'static str)> {
+        let effect = world.get::<Effect<G>>(cloth)?;
+        let mut geometry = state.geometry.clone();
+        geometry.update(&state.positions);
+        let mut buffer = ForceBuffer::new(&state.topology);
+        effect.0.add_forces(&geometry, &state.velocities, &mut buffer);
+        let f = buffer.resolve(&state.topology).get(node)?.length();
+        f.is_finite().then_some((f, effect.0.effect()))
+    }
+    let state = world.get::<ClothState>(cloth)?;
+    [
+        force::<Bending>(world, cloth, state, node),
+        force::<Trellising>(world, cloth, state, node),
+        force::<SeedSeparation>(world, cloth, state, node),
+        force::<KesTensile>(world, cloth, state, node),
+        force::<LinkCompression>(world, cloth, state, node),
+        force::<LinkDamping>(world, cloth, state, node),
+        force::<AirDrag>(world, cloth, state, node),
+    ]
+    .into_iter()
+    .flatten()
+    .max_by(|a, b| a.0.total_cmp(&b.0))
+    .map(|(_, name)| name)
 }
 
 /// Re-evaluates each effect on the cloth's current state, alone, and names the first whose

@@ -92,7 +92,34 @@ pub fn measure_motion(
             return;
         }
         let peak = motion.peak_strain;
-        *motion = measure(&nodes.0, &state.topology, &state.positions, &state.velocities);
+        let now = measure(&nodes.0, &state.topology, &state.positions, &state.velocities);
+        if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
+            failure.0 = Some(SimulationFailure {
+                step: clock.step,
+                time: clock.time,
+                particle: now.fastest_node,
+                // The run loop names the effect pushing hardest on this node.
+                effect: String::from("(runaway)"),
+                message: format!(
+                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; likely cause: \
+                     dt = {} s is too large for this effect's stiffness when applied explicitly \
+                     (docs/model.md §10); try a smaller integration.dt_s",
+                    now.max_speed,
+                    now.max_strain * 100.0,
+                    clock.dt
+                ),
+            });
+            return;
+        }
+        *motion = now;
         motion.peak_strain = peak.max(motion.max_strain);
     }
 }
+
+/// Link strain beyond which a run has diverged: no woven fabric survives 50 % stretch, and a
+/// link shortened by half has folded through its neighbour.
+pub const RUNAWAY_STRAIN: f64 = 0.5;
+
+/// Node speed beyond which a run has diverged (m/s): ten times the speed of a cloth dropped
+/// from 5 m, far above anything a drape or a hanging cloth reaches.
+pub const RUNAWAY_SPEED: f64 = 100.0;

@@ -89,16 +89,16 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
     let parts = cloth_builder(scene).build_parts(&mut physics);
     let mut world = World::new();
     let entity = spawn_cloth(&mut world, parts);
-    insert_resources(&mut world, physics, &i.settle);
+    insert_resources(&mut world, physics, i.dt_s, &i.settle);
     (world, entity)
 }
 
-/// Inserts the resources kes-cloth's systems need: the Rapier world (its
-/// `integration_parameters.dt` is the step), the clock, the effect ledger, motion statistics,
-/// the failure slot and the settle tracker.
-pub fn insert_resources(world: &mut World, physics: PhysicsWorld, settle: &super::SettleSpec) {
+/// Inserts the resources kes-cloth's systems need: the Rapier world, the clock at step `dt`
+/// (s; the same step as `physics.integration_parameters.dt`, kept in f64 for the clock), the
+/// effect ledger, motion statistics, the failure slot and the settle tracker.
+pub fn insert_resources(world: &mut World, physics: PhysicsWorld, dt: f64, settle: &super::SettleSpec) {
     world.insert_resource(Clock {
-        dt: physics.integration_parameters.dt as f64,
+        dt,
         step: 0,
         time: 0.0,
     });

@@ -1,0 +1,35 @@
+//! A run that diverges stops with an error naming the step, the node and the effect, records it
+//! in `metrics.json` without any NaN, and the command exits non-zero.
+
+use std::process::Command;
+
+mod common;
+
+/// The KES tensile law is far too stiff to apply explicitly at the shipped 0.25 ms step
+/// (ω·dt ≫ 2): the run must be stopped, and the tensile effect blamed.
+#[test]
+fn an_explicitly_unstable_stretch_law_is_stopped_and_named() {
+    let dir = std::env::temp_dir().join("kes-cloth-divergence");
+    let out = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+        .args([
+            "run",
+            common::crate_path("scenes/drape_wool.ron").to_str().unwrap(),
+            "--quiet",
+            "--set",
+            "effects.stretch=Kes",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("simulation diverged at step"), "{stderr}");
+    assert!(stderr.contains("effect `stretch_kes`"), "{stderr}");
+    assert!(stderr.contains("particle "), "{stderr}");
+    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["failure"]["effect"], "stretch_kes");
+    assert_eq!(json["settled"], false);
+}
