@@ -136,60 +136,33 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         finite3(&f("centre_m"), col.centre_m)?;
         in_closed(&f("friction"), col.friction, 0.0, 10.0, "")?;
         // Colliders are shrunk by the node radius so node centres rest on the true surface.
-        let shrink = format!("m (more than the node radius {radius} m, by which the collider is shrunk)");
+        let beyond_radius = |field: &str, value: f64| -> Result<(), Violation> {
+            if value > radius && value <= 100.0 {
+                Ok(())
+            } else {
+                Err(violation(
+                    &f(field),
+                    value,
+                    format!(
+                        "must exceed {radius} m (the node radius, by which the collider is shrunk) and be at most 100 m"
+                    ),
+                ))
+            }
+        };
         match col.shape {
             ColliderShape::Cylinder {
                 radius_m,
                 half_height_m,
             } => {
-                in_open_closed(&f("shape.radius_m"), radius_m - radius, 0.0, 100.0, &shrink).map_err(
-                    |_| {
-                        violation(
-                            &f("shape.radius_m"),
-                            radius_m,
-                            format!("must exceed {radius} {shrink}"),
-                        )
-                    },
-                )?;
-                in_open_closed(
-                    &f("shape.half_height_m"),
-                    half_height_m - radius,
-                    0.0,
-                    100.0,
-                    &shrink,
-                )
-                .map_err(|_| {
-                    violation(
-                        &f("shape.half_height_m"),
-                        half_height_m,
-                        format!("must exceed {radius} {shrink}"),
-                    )
-                })?;
+                beyond_radius("shape.radius_m", radius_m)?;
+                beyond_radius("shape.half_height_m", half_height_m)?;
             }
             ColliderShape::Cuboid { half_extents_m } => {
-                for (axis, h) in ["x", "y", "z"].iter().zip(half_extents_m) {
-                    in_open_closed(&f("shape.half_extents_m"), h - radius, 0.0, 100.0, &shrink).map_err(
-                        |_| {
-                            violation(
-                                &f("shape.half_extents_m"),
-                                format!("{half_extents_m:?}"),
-                                format!("{axis} must exceed {radius} {shrink}"),
-                            )
-                        },
-                    )?;
+                for h in half_extents_m {
+                    beyond_radius("shape.half_extents_m", h)?;
                 }
             }
-            ColliderShape::Ball { radius_m } => {
-                in_open_closed(&f("shape.radius_m"), radius_m - radius, 0.0, 100.0, &shrink).map_err(
-                    |_| {
-                        violation(
-                            &f("shape.radius_m"),
-                            radius_m,
-                            format!("must exceed {radius} {shrink}"),
-                        )
-                    },
-                )?;
-            }
+            ColliderShape::Ball { radius_m } => beyond_radius("shape.radius_m", radius_m)?,
         }
     }
 
