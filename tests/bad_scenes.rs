@@ -14,12 +14,7 @@ fn bad_scenes() -> Vec<(std::path::PathBuf, Vec<String>)> {
         .unwrap()
         .map(|e| e.unwrap().path())
         .map(|p| {
-            let text = std::fs::read_to_string(&p).unwrap();
-            let expects = text
-                .lines()
-                .filter_map(|l| l.strip_prefix("// expect: "))
-                .map(String::from)
-                .collect();
+            let expects = common::expect_lines(&p);
             (p, expects)
         })
         .collect();
@@ -33,11 +28,7 @@ fn every_bad_scene_gives_its_expected_message() {
     assert!(cases.len() >= 10);
     for (path, expects) in cases {
         assert!(!expects.is_empty(), "{}: no `// expect:` line", path.display());
-        let message = match std::panic::catch_unwind(|| Scene::load(&path, &[])) {
-            Ok(Err(e)) => e.to_string(),
-            Ok(Ok(_)) => panic!("{} was accepted", path.display()),
-            Err(_) => panic!("{} made the loader panic", path.display()),
-        };
+        let message = common::rejection_message(&path, || Scene::load(&path, &[]));
         assert!(
             message.starts_with(&path.display().to_string()),
             "message lacks the file: {message}"

@@ -71,24 +71,16 @@ fn bad_fabric_files_give_their_expected_messages() {
     let mut count = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
-        let text = std::fs::read_to_string(&path).unwrap();
-        let expects: Vec<&str> = text
-            .lines()
-            .filter_map(|l| l.strip_prefix("// expect: "))
-            .collect();
+        let expects = common::expect_lines(&path);
         assert!(!expects.is_empty(), "{}: no `// expect:` line", path.display());
-        let message = match std::panic::catch_unwind(|| Fabric::load(&path)) {
-            Ok(Err(e)) => e.to_string(),
-            Ok(Ok(_)) => panic!("{} was accepted", path.display()),
-            Err(_) => panic!("{} made the loader panic", path.display()),
-        };
+        let message = common::rejection_message(&path, || Fabric::load(&path));
         assert!(
             message.contains(&path.display().to_string()),
             "message lacks the path: {message}"
         );
-        for e in expects {
+        for e in &expects {
             assert!(
-                message.contains(e),
+                message.contains(e.as_str()),
                 "{}:\n  got      {message}\n  expected {e}",
                 path.display()
             );

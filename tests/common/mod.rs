@@ -49,3 +49,24 @@ impl Rng {
         DVec3::new(self.signed(), self.signed(), self.signed()) * scale
     }
 }
+
+/// The `// expect: ...` lines of a bad input file: fragments its rejection message must hold.
+pub fn expect_lines(path: &std::path::Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).expect("bad input file is readable");
+    text.lines()
+        .filter_map(|l| l.strip_prefix("// expect: "))
+        .map(String::from)
+        .collect()
+}
+
+/// The message of a load that must fail without panicking.
+pub fn rejection_message<T, E: std::fmt::Display>(
+    path: &std::path::Path,
+    load: impl FnOnce() -> Result<T, E> + std::panic::UnwindSafe,
+) -> String {
+    match std::panic::catch_unwind(load) {
+        Ok(Err(e)) => e.to_string(),
+        Ok(Ok(_)) => panic!("{} was accepted", path.display()),
+        Err(_) => panic!("{} made the loader panic", path.display()),
+    }
+}
