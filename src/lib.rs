@@ -36,12 +36,15 @@
 //!    frame (or [`embed::KesCloth::apply_forces`] before your own `world.step()`). See
 //!    `examples/embed_rapier.rs`, `examples/flag.rs`, `examples/custom_fabric.rs`.
 //!
-//! Our forces are explicit at Rapier's step: use one solver substep
+//! By default our forces are explicit at Rapier's step: use one solver substep
 //! (`num_solver_iterations = 1`) and a step the fabric allows (`docs/rapier.md`, `docs/model.md`).
+//! [`implicit::Integrator::Implicit`] solves them backward-Euler instead, stable at the step
+//! contact needs (1/240 s) for the stiffest fabric.
 //!
 //! ## Modules
 //! - [`material`]: KES data, its conversion to SI, the elastic curves.
 //! - [`forces`]: one force generator per effect, behind [`forces::ForceGenerator`].
+//! - [`implicit`]: the linearly implicit (backward Euler) solve of those forces.
 //! - [`scene`]: the RON schema, validation, `--set`, spawning.
 //! - [`schedule`]: the step's phases and systems.
 //! - [`bodies`]: cloth nodes as Rapier bodies (the one place that knows how).
@@ -56,6 +59,7 @@
 pub mod bodies;
 pub mod embed;
 pub mod forces;
+pub mod implicit;
 pub mod material;
 pub mod measure;
 pub mod output;

@@ -17,7 +17,7 @@ use crate::output::{
     EffectCost, FailureReport, Metrics, OutputError, TopViewOutline, write_obj, write_top_view,
 };
 use crate::scene::{ColliderShape, Scene};
-use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Failure, build_step_schedule};
+use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Failure, Implicit, build_step_schedule};
 
 /// How to run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -107,7 +107,11 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
     } else {
         None
     };
+    let implicit = world.get::<Implicit>(cloth).map(|i| i.0.stats);
     let metrics = Metrics {
+        integrator: format!("{:?}", scene.spec.integration.integrator),
+        cg_iterations_mean: implicit.map(|s| s.iterations as f64 / s.solves.max(1) as f64),
+        cg_unconverged_steps: implicit.map(|s| s.unconverged),
         scene: scene.spec.name.clone(),
         fabric: scene.fabric.name.clone(),
         particles: topology.particle_count,
@@ -356,12 +360,16 @@ pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<
 pub fn summary(outcome: &RunOutcome) -> String {
     let m = &outcome.metrics;
     let mut s = format!(
-        "{} ({}): {} nodes at {:.1} mm, dt {:.3} ms\n",
+        "{} ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}\n",
         m.scene,
         m.fabric,
         m.particles,
         m.spacing_m * 1e3,
-        m.dt_s * 1e3
+        m.dt_s * 1e3,
+        match m.cg_iterations_mean {
+            Some(it) => format!("implicit ({it:.0} CG products per step)"),
+            None => "explicit".to_string(),
+        }
     );
     match (m.settled, m.settle_time_s) {
         (true, Some(t)) => s += &format!("  settled at t = {t:.2} s"),
@@ -402,6 +410,10 @@ pub fn summary(outcome: &RunOutcome) -> String {
         .map(|(_, c)| c.seconds)
         .sum();
     let rapier = m.effects.get("rapier_step").map_or(0.0, |c| c.seconds);
-    s += &format!("  time: our forces {ours:.2} s, Rapier's step {rapier:.2} s");
+    s += &format!("  time: our forces {ours:.2} s");
+    if let Some(solve) = m.effects.get("implicit_solve").filter(|c| c.calls > 0) {
+        s += &format!(" (of which the implicit solve {:.2} s)", solve.seconds);
+    }
+    s += &format!(", Rapier's step {rapier:.2} s");
     s
 }

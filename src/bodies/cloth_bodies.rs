@@ -106,6 +106,47 @@ impl ClothBodies {
         }
     }
 
+    /// For each node touching a fixed or kinematic collider (gap at most `max_gap`, m), the unit
+    /// normal of that surface pointing towards the node; zero for a free node. Where a node
+    /// touches several surfaces, the deepest contact wins.
+    pub fn read_supports(&self, world: &PhysicsWorld, max_gap: f64, normals: &mut [DVec3]) {
+        for (h, n) in self.handles.iter().zip(normals.iter_mut()) {
+            *n = DVec3::ZERO;
+            let Some(body) = world.bodies.get(*h) else {
+                continue;
+            };
+            let mut deepest = max_gap as f32;
+            for &node_collider in body.colliders() {
+                for pair in world.contact_pairs_with(node_collider) {
+                    let (other, node_first) = if pair.collider1 == node_collider {
+                        (pair.collider2, true)
+                    } else {
+                        (pair.collider1, false)
+                    };
+                    let support = world
+                        .colliders
+                        .get(other)
+                        .and_then(|c| c.parent())
+                        .and_then(|b| world.bodies.get(b))
+                        .is_none_or(|b| !b.is_dynamic());
+                    if !support {
+                        continue;
+                    }
+                    for manifold in pair.manifolds() {
+                        for point in &manifold.points {
+                            if point.dist <= deepest {
+                                deepest = point.dist;
+                                // The manifold normal points from collider 1 to collider 2.
+                                let normal = manifold.data.normal.as_dvec3();
+                                *n = if node_first { -normal } else { normal };
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Replaces the user force on every node (N); Rapier holds it constant over the next step.
     pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
         for (h, f) in self.handles.iter().zip(forces) {

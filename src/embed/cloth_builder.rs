@@ -12,6 +12,7 @@ use crate::bodies::{ClothBodies, NodeOptions};
 use crate::forces::{
     AirDrag, Bending, ClothTopology, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
 };
+use crate::implicit::{ImplicitSolver, Integrator};
 use crate::material::Fabric;
 use crate::scene::StretchModel;
 use crate::schedule::ClothState;
@@ -63,6 +64,8 @@ pub struct ClothParts {
     pub damping: Option<LinkDamping>,
     /// Air drag, if asked for.
     pub air_drag: Option<AirDrag>,
+    /// The backward-Euler solve, for [`Integrator::Implicit`].
+    pub implicit: Option<ImplicitSolver>,
 }
 
 /// Builds a KES cloth into a Rapier world. Defaults: a 0.3 m square, 1 cm spacing, centred at
@@ -86,6 +89,7 @@ pub struct ClothBuilder {
     self_collision: bool,
     gravity: bool,
     pins: Vec<Pin>,
+    integrator: Integrator,
 }
 
 impl ClothBuilder {
@@ -108,6 +112,7 @@ impl ClothBuilder {
             self_collision: false,
             gravity: true,
             pins: Vec::new(),
+            integrator: Integrator::Explicit,
         }
     }
 
@@ -179,6 +184,13 @@ impl ClothBuilder {
     /// Holds node (i, j) to `body` at `anchor` (body frame, m).
     pub fn pin(mut self, node: (u32, u32), body: RigidBodyHandle, anchor: Vec3) -> Self {
         self.pins.push(Pin { node, body, anchor });
+        self
+    }
+
+    /// The fabric.
+    /// How our forces are integrated (default [`Integrator::Explicit`]).
+    pub fn integrator(mut self, integrator: Integrator) -> Self {
+        self.integrator = integrator;
         self
     }
 
@@ -263,12 +275,26 @@ impl ClothBuilder {
             stretch_seed: (self.stretch == StretchModel::Seed)
                 .then(|| SeedSeparation::new(t.clone(), fabric)),
             stretch_kes: (self.stretch == StretchModel::Kes).then(|| KesTensile::new(t.clone(), fabric)),
-            compression: (self.stretch == StretchModel::Constraint)
-                .then(|| LinkCompression::new(t.clone(), LinkCompression::stable_stiffness(node_mass, dt))),
+            compression: (self.stretch == StretchModel::Constraint).then(|| {
+                // Explicitly, the stiffest spring the step allows; implicitly, the same spring as
+                // an explicit run at the reference step, so both integrate one model.
+                let sizing_step = match self.integrator {
+                    Integrator::Explicit => dt,
+                    Integrator::Implicit(_) => dt.min(LinkCompression::REFERENCE_STEP),
+                };
+                LinkCompression::new(
+                    t.clone(),
+                    LinkCompression::stable_stiffness(node_mass, sizing_step),
+                )
+            }),
             damping: self
                 .damping
                 .map(|rate| LinkDamping::new(t.clone(), rate, node_mass)),
             air_drag: self.air_drag.map(|c| AirDrag::new(c, sigma)),
+            implicit: match self.integrator {
+                Integrator::Explicit => None,
+                Integrator::Implicit(settings) => Some(ImplicitSolver::new(t.clone(), node_mass, settings)),
+            },
             state: ClothState::new(topology.clone(), positions),
             bodies,
         }

@@ -4,7 +4,7 @@ use bevy_ecs::prelude::*;
 
 use super::ClothParts;
 use crate::forces::ForceGenerator;
-use crate::schedule::{ClothNodes, Effect};
+use crate::schedule::{ClothNodes, Effect, Implicit};
 
 /// Adds kes-cloth's per-step systems to `schedule`, in the chained [`crate::schedule::Phase`]
 /// sets (prepare → forces → step → measure → output). Order your own systems with
@@ -25,6 +25,9 @@ pub fn spawn_cloth(world: &mut World, parts: ClothParts) -> Entity {
     insert_effect(&mut e, parts.compression);
     insert_effect(&mut e, parts.damping);
     insert_effect(&mut e, parts.air_drag);
+    if let Some(solver) = parts.implicit {
+        e.insert(Implicit(solver));
+    }
     e.id()
 }
 

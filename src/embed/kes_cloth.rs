@@ -26,7 +26,7 @@ impl KesCloth {
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
         state.geometry.update(&state.positions);
         state.forces.clear();
-        let generators: [Option<&dyn ForceGenerator>; 7] = [
+        let generators = [
             p.bending.as_ref().map(|g| g as &dyn ForceGenerator),
             p.trellising.as_ref().map(|g| g as &dyn ForceGenerator),
             p.stretch_seed.as_ref().map(|g| g as &dyn ForceGenerator),
@@ -35,11 +35,19 @@ impl KesCloth {
             p.damping.as_ref().map(|g| g as &dyn ForceGenerator),
             p.air_drag.as_ref().map(|g| g as &dyn ForceGenerator),
         ];
-        for g in generators.into_iter().flatten() {
+        let generators: Vec<&dyn ForceGenerator> = generators.into_iter().flatten().collect();
+        for g in &generators {
             g.add_forces(&state.geometry, &state.velocities, &mut state.forces);
         }
-        let forces = state.forces.resolve(&state.topology);
-        p.bodies.write_forces(world, forces);
+        state.forces.resolve(&state.topology);
+        if let Some(implicit) = &mut p.implicit {
+            p.bodies
+                .read_supports(world, crate::implicit::SUPPORT_GAP, &mut implicit.supports);
+            let h = world.integration_parameters.dt as f64;
+            let forces = &mut state.forces.particle;
+            implicit.solve(&generators, &state.geometry, &state.velocities, forces, h);
+        }
+        p.bodies.write_forces(world, &state.forces.particle);
     }
 
     /// [`Self::apply_forces`] then `world.step()`; afterwards [`Self::positions`] is current.

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ForceBuffer, ForceGenerator};
+use super::{ClothGeometry, ForceBuffer, ForceGenerator, Perturbation};
 
 /// Linear drag on every node.
 #[derive(Clone, Debug)]
@@ -36,6 +36,14 @@ impl ForceGenerator for AirDrag {
     fn add_forces(&self, _geometry: &ClothGeometry, velocities: &[DVec3], forces: &mut ForceBuffer) {
         for (f, v) in forces.particle.iter_mut().zip(velocities) {
             *f -= self.per_node * *v;
+        }
+    }
+
+    /// C·δv = c·A·δv on each node.
+    fn add_damping_product(&self, dv: &Perturbation, scale: f64, out: &mut ForceBuffer) {
+        let c = scale * self.per_node;
+        for (o, d) in out.particle.iter_mut().zip(&dv.particle) {
+            *o += c * *d;
         }
     }
 }

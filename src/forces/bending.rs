@@ -17,7 +17,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, cos_angle_gradients};
+use super::element_stiffness::{AngleClamp, angle_hessian_product};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
 use crate::material::{ElasticCurve, Fabric, Thread};
 
 /// cos(π/4): the angle θ = π/4 where the curvature switches to its extension.
@@ -46,6 +47,13 @@ pub fn curvature_slope(theta: f64, spacing: f64) -> f64 {
         let t = theta.max(MIN_FOLD_ANGLE);
         -FRAC_PI_4 * FRAC_PI_4 * beta / (t * t)
     }
+}
+
+/// d²K/dθ² (m⁻¹ per rad²) of the fold extension (θ < π/4).
+fn fold_curvature_bend(theta: f64, spacing: f64) -> f64 {
+    let (_, beta) = extension_constants(spacing);
+    let t = theta.max(MIN_FOLD_ANGLE);
+    2.0 * FRAC_PI_4 * FRAC_PI_4 * beta / (t * t * t)
 }
 
 fn extension_constants(spacing: f64) -> (f64, f64) {
@@ -87,6 +95,31 @@ impl Bending {
             // dθ/dc = −1/sin θ.
             let de_dc = -sigma * sigma * curve.value(k) * dk_dtheta / sin_theta.max(MIN_FOLD_ANGLE);
             (sigma * sigma * curve.integral(k), de_dc)
+        }
+    }
+
+    /// dE/dc and d²E/dc² (J) of one spring, c = cos θ; `sin_theta` ≥ 0.
+    fn spring_tangent(&self, curve: &ElasticCurve, c: f64, sin_theta: f64) -> (f64, f64) {
+        let sigma = self.topology.spacing;
+        if c < COS_SWITCH {
+            // dK/dc = 1/(σ²K): dE/dc = M/K, d²E/dc² = (M' − M/K)/(σ²K²), zero for a linear M.
+            let k = 2.0 / sigma * (0.5 * (1.0 + c)).max(0.0).sqrt();
+            let secant = curve.secant(k);
+            let f2 = match curve.as_linear() {
+                Some(_) => 0.0,
+                None if k > 0.0 => (curve.slope(k) - secant) / (sigma * sigma * k * k),
+                None => 0.0,
+            };
+            (secant, f2)
+        } else {
+            let theta = sin_theta.atan2(c).max(MIN_FOLD_ANGLE);
+            let s = sin_theta.max(MIN_FOLD_ANGLE);
+            let k = curvature_of_angle(theta, sigma);
+            let (k1, k2) = (curvature_slope(theta, sigma), fold_curvature_bend(theta, sigma));
+            let e_theta = sigma * sigma * curve.value(k) * k1;
+            let e_theta2 = sigma * sigma * (curve.slope(k) * k1 * k1 + curve.value(k) * k2);
+            // dθ/dc = −1/sin θ, d²θ/dc² = −cos θ/sin³θ.
+            (-e_theta / s, e_theta2 / (s * s) - e_theta * c / (s * s * s))
         }
     }
 
@@ -141,6 +174,36 @@ impl ForceGenerator for Bending {
                 forces.link[links[0] as usize] += de_dc * grad_a;
                 forces.link[links[1] as usize] -= de_dc * grad_c;
             }
+        }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        let topo = &*self.topology;
+        let clamp = if definite {
+            AngleClamp::Majorant
+        } else {
+            AngleClamp::Exact
+        };
+        for (s, &[l1, l2]) in topo.bend_links.iter().enumerate() {
+            let (l1, l2) = (l1 as usize, l2 as usize);
+            let (u, w) = (-geometry.unit[l1], geometry.unit[l2]);
+            let tangent = self.spring_tangent(self.curve(s), u.dot(w), u.cross(w).length());
+            let (hu, hw) = angle_hessian_product(
+                (u, w),
+                (geometry.inv_length[l1], geometry.inv_length[l2]),
+                tangent,
+                (-dx.link[l1], dx.link[l2]),
+                clamp,
+            );
+            out.link[l1] -= scale * hu;
+            out.link[l2] += scale * hw;
         }
     }
 }

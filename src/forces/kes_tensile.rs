@@ -8,7 +8,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+use super::element_stiffness::add_link_spring_products;
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
 use crate::material::{Fabric, TensileLaw, Thread};
 
 /// KES tensile springs on every thread link.
@@ -61,5 +62,22 @@ impl ForceGenerator for KesTensile {
                 *link_force -= f;
             }
         }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        let (topo, sigma) = (&self.topology, self.topology.spacing);
+        add_link_spring_products(geometry, dx, scale, definite, out, |l| {
+            let law = &self.law[topo.link_thread(l) as usize];
+            let strain = geometry.length[l] / sigma - 1.0;
+            // dE/dr = σ·T(ε), d²E/dr² = T'(ε) (dε/dr = 1/σ).
+            (sigma * law.tension(strain), law.stiffness(strain))
+        });
     }
 }

@@ -12,7 +12,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+use super::element_stiffness::add_link_spring_products;
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
 
 /// One-sided compression springs on every thread link.
 #[derive(Clone, Debug)]
@@ -27,6 +28,10 @@ impl LinkCompression {
     pub fn new(topology: Arc<ClothTopology>, stiffness: f64) -> Self {
         Self { topology, stiffness }
     }
+
+    /// The step (s) at which the shipped explicit scenes size the spring: an implicit run with a
+    /// longer step keeps this stiffness, so it integrates the same model.
+    pub const REFERENCE_STEP: f64 = 2.5e-4;
 
     /// A per-link stiffness that explicit stepping at `dt` (s) keeps stable for nodes of mass
     /// `node_mass` (kg), leaving room for the other forces: along one thread the fastest
@@ -67,5 +72,28 @@ impl ForceGenerator for LinkCompression {
                 *f += k * (sigma - r) * unit;
             }
         }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        let (k, sigma) = (self.stiffness, self.topology.spacing);
+        add_link_spring_products(geometry, dx, scale, definite, out, |l| {
+            let r = geometry.length[l];
+            // E = ½k(σ − r)² below σ: dE/dr = −k(σ − r), d²E/dr² = k. The rope joint holds a
+            // stretched link: the solver's matrix gives stretch the same axial stiffness, so
+            // the velocity change it computes keeps the links' lengths as the joint will (a
+            // majorant: the exact Hessian is 0 there).
+            match (r < sigma, definite) {
+                (true, _) => (-k * (sigma - r), k),
+                (false, true) => (0.0, k),
+                (false, false) => (0.0, 0.0),
+            }
+        });
     }
 }

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
 
 /// Relative-velocity damping on every thread link.
 #[derive(Clone, Debug)]
@@ -46,6 +46,14 @@ impl ForceGenerator for LinkDamping {
         let c = self.coefficient;
         for (&[p, q], f) in self.topology.links.iter().zip(&mut forces.link) {
             *f -= c * (velocities[q as usize] - velocities[p as usize]);
+        }
+    }
+
+    /// C·δv: each link's relative velocity change times c.
+    fn add_damping_product(&self, dv: &Perturbation, scale: f64, out: &mut ForceBuffer) {
+        let c = scale * self.coefficient;
+        for (o, d) in out.link.iter_mut().zip(&dv.link) {
+            *o += c * *d;
         }
     }
 }

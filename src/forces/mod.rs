@@ -13,8 +13,12 @@
 //! | compression of links held by Rapier rope joints | [`link_compression`] | ½k(σ − r)², r < σ |
 //! | damping of relative motion along links | [`link_damping`] | dissipative |
 //! | linear air drag | [`air_drag`] | dissipative |
+//!
+//! Each generator also gives the products of its energy Hessian and damping matrix with a
+//! perturbation, which the implicit integrator ([`crate::implicit`]) solves with.
 
 pub mod air_drag;
+mod element_stiffness;
 pub mod bending;
 mod cloth_geometry;
 mod cloth_topology;
@@ -22,6 +26,7 @@ mod force_buffer;
 pub mod kes_tensile;
 pub mod link_compression;
 pub mod link_damping;
+mod perturbation;
 pub mod seed_separation;
 pub mod trellising;
 
@@ -36,6 +41,7 @@ pub use force_buffer::ForceBuffer;
 pub use kes_tensile::KesTensile;
 pub use link_compression::LinkCompression;
 pub use link_damping::LinkDamping;
+pub use perturbation::Perturbation;
 pub use seed_separation::SeedSeparation;
 pub use trellising::Trellising;
 
@@ -50,4 +56,22 @@ pub trait ForceGenerator: Send + Sync {
     /// Adds this effect's forces (N) to `forces` (link pairs or particle forces).
     /// `velocities` (m/s) are there for dissipative effects; elastic ones ignore them.
     fn add_forces(&self, geometry: &ClothGeometry, velocities: &[DVec3], forces: &mut ForceBuffer);
+
+    /// Adds `scale`·H·δx into `out` (N per unit scale), H = ∂²E/∂x² the Hessian of this effect's
+    /// energy (N/m) at `geometry`, for the displacement δx (m) in `dx`. With `definite`, H is
+    /// replaced by its positive semi-definite clamp, the matrix the implicit integrator solves
+    /// with (`docs/model.md` §12). Effects without stiffness add nothing (the default).
+    fn add_stiffness_product(
+        &self,
+        _geometry: &ClothGeometry,
+        _dx: &Perturbation,
+        _scale: f64,
+        _definite: bool,
+        _out: &mut ForceBuffer,
+    ) {
+    }
+
+    /// Adds `scale`·C·δv into `out`, C = −∂F/∂v the damping matrix (N·s/m), for the velocity
+    /// change δv (m/s) in `dv`. Elastic effects add nothing (the default).
+    fn add_damping_product(&self, _dv: &Perturbation, _scale: f64, _out: &mut ForceBuffer) {}
 }

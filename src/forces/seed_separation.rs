@@ -13,7 +13,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+use super::element_stiffness::add_link_spring_products;
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
 use crate::material::{Fabric, Thread};
 
 /// The seed's separation springs on every thread link.
@@ -62,6 +63,25 @@ impl SeedSeparation {
     }
 }
 
+impl SeedSeparation {
+    /// dE/dr (N) and d²E/dr² (N/m) of one link of length `r` (m).
+    fn link_tangent(&self, c0: f64, r: f64) -> (f64, f64) {
+        let sigma = self.topology.spacing;
+        let d = r - sigma;
+        let d3 = d * d * d;
+        let s5 = sigma.powi(5);
+        if d > 0.0 {
+            (5.0 * c0 * d3 * d / s5, 20.0 * c0 * d3 / s5)
+        } else {
+            let s6 = s5 * sigma;
+            (
+                -c0 * (4.0 * r + sigma) * d3 * d / s6,
+                -c0 * (4.0 * d3 * d + 4.0 * (4.0 * r + sigma) * d3) / s6,
+            )
+        }
+    }
+}
+
 impl ForceGenerator for SeedSeparation {
     fn effect(&self) -> &'static str {
         "stretch_seed"
@@ -92,5 +112,18 @@ impl ForceGenerator for SeedSeparation {
                 *link_force -= f;
             }
         }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        add_link_spring_products(geometry, dx, scale, definite, out, |l| {
+            self.link_tangent(self.c0[self.topology.link_thread(l) as usize], geometry.length[l])
+        });
     }
 }

@@ -12,7 +12,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, cos_angle_gradients};
+use super::element_stiffness::{AngleClamp, angle_hessian_product};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
 use crate::material::{ElasticCurve, Fabric};
 
 /// Four trellis springs per interior crossing.
@@ -119,6 +120,50 @@ impl ForceGenerator for Trellising {
         match self.force.as_linear() {
             Some(g) => self.accumulate(geometry, forces, |gamma| g * gamma),
             None => self.accumulate(geometry, forces, |gamma| self.force.value(gamma)),
+        }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        let topo = &*self.topology;
+        let q = 0.25 * topo.spacing * topo.spacing;
+        let clamp = if definite {
+            AngleClamp::Majorant
+        } else {
+            AngleClamp::Exact
+        };
+        let (unit, inv, d) = (&geometry.unit, &geometry.inv_length, &dx.link);
+        // One corner: U = su·d_lu, W = sw·d_lw; E = (σ²/4)·∫F, so f' = (σ²/4)·F, f'' = (σ²/4)·F'.
+        let mut corner = |(lu, su): (usize, f64), (lw, sw): (usize, f64)| {
+            let (u, w) = (su * unit[lu], sw * unit[lw]);
+            let gamma = u.dot(w);
+            let tangent = (q * self.force.value(gamma), q * self.force.slope(gamma));
+            let (hu, hw) = angle_hessian_product(
+                (u, w),
+                (inv[lu], inv[lw]),
+                tangent,
+                (su * d[lu], sw * d[lw]),
+                clamp,
+            );
+            out.link[lu] += (scale * su) * hu;
+            out.link[lw] += (scale * sw) * hw;
+        };
+        for &[up, wp, um, wm] in &topo.full_crossings {
+            let (u1, w1) = ((up as usize, 1.0), (wp as usize, 1.0));
+            let (u2, w2) = ((um as usize, -1.0), (wm as usize, -1.0));
+            corner(u1, w1);
+            corner(u2, w1);
+            corner(u2, w2);
+            corner(u1, w2);
+        }
+        for &[lu, lw] in &topo.corner_links {
+            corner((lu.index(), lu.sign()), (lw.index(), lw.sign()));
         }
     }
 }

@@ -86,6 +86,12 @@ pub struct Metrics {
     pub hang_mid_sides_m: Option<f64>,
     /// Tablecloths: folds of the skirt around the table (see `measure/drape.rs`).
     pub skirt_folds: Option<u32>,
+    /// `"Explicit"` or `"Implicit"`: how our forces were integrated.
+    pub integrator: String,
+    /// Implicit runs: conjugate-gradient products per step, averaged over the run.
+    pub cg_iterations_mean: Option<f64>,
+    /// Implicit runs: steps whose solve stopped at the iteration limit above its tolerance.
+    pub cg_unconverged_steps: Option<u64>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
     /// Set when the run stopped on a non-finite value.

@@ -206,8 +206,15 @@ pub struct AirDragSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegrationSpec {
-    /// Time step (s), > 0. Our KES forces are explicit at this step (see `docs/model.md`).
+    /// Time step (s), > 0. With the explicit integrator our KES forces must be stable at this
+    /// step (`docs/model.md` §7); the implicit one is stable at any step.
     pub dt_s: f64,
+    /// How our forces are integrated over a step (default `Explicit`).
+    #[serde(default)]
+    pub integrator: IntegratorSpec,
+    /// Settings of the implicit solve (ignored by `Explicit`).
+    #[serde(default)]
+    pub implicit_solver: ImplicitSolverSpec,
     /// Rapier solver iterations (substeps) per step (default 1). Our forces are sampled once
     /// per step; with more than one substep Rapier integrates them in a way that is unstable
     /// for any stiffness (see `docs/rapier.md`), so keep 1 unless no KES force is on.
@@ -221,6 +228,38 @@ pub struct IntegrationSpec {
     /// When the cloth counts as at rest.
     #[serde(default)]
     pub settle: SettleSpec,
+}
+
+/// How our forces are integrated over a step (`docs/model.md` §7 and §12).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum IntegratorSpec {
+    /// Forces at the start of the step, held over it: cheapest per step, stable only below the
+    /// fabric's explicit step limit (≈ 0.25 ms for thick cotton at 1 cm).
+    #[default]
+    Explicit,
+    /// Linearly implicit backward Euler (Baraff & Witkin): stable at the step contact needs;
+    /// adds numerical damping that grows with the step.
+    Implicit,
+}
+
+/// Conjugate-gradient settings of the implicit solve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ImplicitSolverSpec {
+    /// Most matrix products per step (default 100).
+    pub max_iterations: usize,
+    /// Relative residual at which a solve stops (dimensionless; default 0.001).
+    pub tolerance: f64,
+}
+
+impl Default for ImplicitSolverSpec {
+    fn default() -> Self {
+        let d = crate::implicit::ImplicitSettings::default();
+        Self {
+            max_iterations: d.max_iterations,
+            tolerance: d.tolerance,
+        }
+    }
 }
 
 fn default_iterations() -> usize {

@@ -1,6 +1,6 @@
 //! Physical and numerical range checks of a scene, each naming the field and the allowed range.
 
-use super::scene_file::{ClothShape, ColliderShape, SCENE_VERSION, SceneFile};
+use super::scene_file::{ClothShape, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile};
 
 /// A field outside its range: (field path, value, reason).
 pub(crate) type Violation = (String, String, String);
@@ -191,15 +191,35 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1e4,
         "s",
     )?;
+    whole(
+        "integration.implicit_solver.max_iterations",
+        i.implicit_solver.max_iterations,
+        1,
+        100_000,
+    )?;
+    in_open_closed(
+        "integration.implicit_solver.tolerance",
+        i.implicit_solver.tolerance,
+        0.0,
+        1.0,
+        "(relative residual)",
+    )?;
     if let Some(d) = s.effects.damping {
         // Explicit at the step: an interior node has four links, stable while rate·dt < 1/4.
-        let limit = 0.25 / s.integration.dt_s;
+        // Implicitly, any rate is stable.
+        let limit = match i.integrator {
+            IntegratorSpec::Explicit => 0.25 / s.integration.dt_s,
+            IntegratorSpec::Implicit => 1e6,
+        };
         in_closed(
             "effects.damping.rate_per_s",
             d.rate_per_s,
             0.0,
             limit,
-            "1/s (explicit damping is stable below 1/(4·dt))",
+            match i.integrator {
+                IntegratorSpec::Explicit => "1/s (explicit damping is stable below 1/(4·dt))",
+                IntegratorSpec::Implicit => "1/s",
+            },
         )?;
     }
     if let Some(a) = s.effects.air_drag {

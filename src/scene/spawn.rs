@@ -6,10 +6,11 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
-use super::{ClothShape, ColliderShape, Scene};
+use super::{ClothShape, ColliderShape, IntegrationSpec, IntegratorSpec, Scene};
 use crate::bodies::{WorldShape, add_world_collider, configure_world};
 use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
 use crate::forces::ClothTopology;
+use crate::implicit::{ImplicitSettings, Integrator};
 use crate::measure::{Motion, SettleState};
 use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 
@@ -36,6 +37,17 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .damping(fx.damping.map(|d| d.rate_per_s))
         .air_drag(fx.air_drag.map(|a| a.coefficient_n_s_per_m3))
         .collisions_and_gravity(fx.contact, fx.self_collision, fx.gravity)
+        .integrator(integrator(&scene.spec.integration))
+}
+
+fn integrator(spec: &IntegrationSpec) -> Integrator {
+    match spec.integrator {
+        IntegratorSpec::Explicit => Integrator::Explicit,
+        IntegratorSpec::Implicit => Integrator::Implicit(ImplicitSettings {
+            max_iterations: spec.implicit_solver.max_iterations,
+            tolerance: spec.implicit_solver.tolerance,
+        }),
+    }
 }
 
 /// The woven grid of the scene's cloth and its flat node positions (m), before perturbation.

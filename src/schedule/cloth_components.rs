@@ -47,6 +47,11 @@ impl ClothState {
 #[derive(Component)]
 pub struct ClothNodes(pub ClothBodies);
 
+/// Present on a cloth whose forces are solved backward-Euler ([`crate::implicit`]); its system
+/// runs only where this component exists.
+#[derive(Component)]
+pub struct Implicit(pub crate::implicit::ImplicitSolver);
+
 /// A force generator acting on the cloth entity that carries it. Its presence is the run
 /// condition of the system that applies it: an effect a scene does not declare has no
 /// component, so its system never runs.
@@ -73,7 +78,7 @@ pub struct EffectLedger {
 
 /// Every effect kes-cloth can run as a system, by name; each appears in `metrics.json`, with 0
 /// calls when the scene did not ask for it.
-pub const EFFECT_NAMES: [&str; 8] = [
+pub const EFFECT_NAMES: [&str; 9] = [
     "bending",
     "trellising",
     "stretch_seed",
@@ -81,6 +86,7 @@ pub const EFFECT_NAMES: [&str; 8] = [
     "compression",
     "damping",
     "air_drag",
+    "implicit_solve",
     "rapier_step",
 ];
 

@@ -5,9 +5,11 @@ use std::time::Instant;
 use bevy_ecs::prelude::*;
 
 use super::cloth_components::{
-    Clock, ClothNodes, ClothState, Effect, EffectLedger, Failure, Physics, SimulationFailure,
+    Clock, ClothNodes, ClothState, Effect, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
 };
-use crate::forces::ForceGenerator;
+use crate::forces::{
+    AirDrag, Bending, ForceGenerator, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
+};
 
 /// Phase 1, prepare: update link geometry from the node state (read from Rapier at the end of
 /// the previous step, or set at spawn), clear forces.
@@ -34,14 +36,9 @@ pub fn apply_effect<G: ForceGenerator + 'static>(
     }
 }
 
-/// End of phase 2: sum link forces onto nodes, stop on a non-finite force, hand them to Rapier.
-pub fn push_forces(
-    mut physics: ResMut<Physics>,
-    clock: Res<Clock>,
-    mut failure: ResMut<Failure>,
-    mut cloths: Query<(&ClothNodes, &mut ClothState)>,
-) {
-    for (nodes, mut state) in &mut cloths {
+/// End of phase 2: sum link forces onto nodes; stop on a non-finite force.
+pub fn sum_forces(clock: Res<Clock>, mut failure: ResMut<Failure>, mut cloths: Query<&mut ClothState>) {
+    for mut state in &mut cloths {
         let state = &mut *state;
         let forces = state.forces.resolve(&state.topology);
         if let Some(i) = forces.iter().position(|f| !f.is_finite()) {
@@ -53,9 +50,84 @@ pub fn push_forces(
                 effect: String::from("(forces)"),
                 message: format!("non-finite force {:?} N", forces[i]),
             });
+        }
+    }
+}
+
+/// Every effect a cloth entity may carry, as optional components.
+type EffectComponents = (
+    Option<&'static Effect<Bending>>,
+    Option<&'static Effect<Trellising>>,
+    Option<&'static Effect<SeedSeparation>>,
+    Option<&'static Effect<KesTensile>>,
+    Option<&'static Effect<LinkCompression>>,
+    Option<&'static Effect<LinkDamping>>,
+    Option<&'static Effect<AirDrag>>,
+);
+
+/// Phase 2 (implicit cloths only): replace the summed forces by the backward-Euler force
+/// M·Δv/h (see [`crate::implicit`]).
+pub fn solve_implicit(
+    physics: Res<Physics>,
+    clock: Res<Clock>,
+    mut failure: ResMut<Failure>,
+    mut ledger: ResMut<EffectLedger>,
+    mut cloths: Query<(&mut ClothState, &mut Implicit, &ClothNodes, EffectComponents)>,
+) {
+    if failure.0.is_some() {
+        return;
+    }
+    for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a)) in &mut cloths {
+        let start = Instant::now();
+        nodes
+            .0
+            .read_supports(&physics.0, crate::implicit::SUPPORT_GAP, &mut implicit.0.supports);
+        let state = &mut *state;
+        let generators: Vec<&dyn ForceGenerator> = [
+            b.map(|e| &e.0 as &dyn ForceGenerator),
+            t.map(|e| &e.0 as &dyn ForceGenerator),
+            ss.map(|e| &e.0 as &dyn ForceGenerator),
+            sk.map(|e| &e.0 as &dyn ForceGenerator),
+            c.map(|e| &e.0 as &dyn ForceGenerator),
+            d.map(|e| &e.0 as &dyn ForceGenerator),
+            a.map(|e| &e.0 as &dyn ForceGenerator),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let forces = &mut state.forces.particle;
+        implicit
+            .0
+            .solve(&generators, &state.geometry, &state.velocities, forces, clock.dt);
+        ledger.record("implicit_solve", start.elapsed().as_secs_f64());
+        if let Some(i) = forces.iter().position(|f| !f.is_finite()) {
+            failure.0 = Some(SimulationFailure {
+                step: clock.step,
+                time: clock.time,
+                particle: i,
+                effect: String::from("implicit_solve"),
+                message: format!(
+                    "non-finite velocity change (force {:?} N) from the implicit solve: a stiffness \
+                     product or the solve produced NaN",
+                    forces[i]
+                ),
+            });
             return;
         }
-        nodes.0.write_forces(&mut physics.0, forces);
+    }
+}
+
+/// End of phase 2: hand each cloth's node forces to Rapier (unless the run is failing).
+pub fn push_forces(
+    mut physics: ResMut<Physics>,
+    failure: Res<Failure>,
+    cloths: Query<(&ClothNodes, &ClothState)>,
+) {
+    if failure.0.is_some() {
+        return;
+    }
+    for (nodes, state) in &cloths {
+        nodes.0.write_forces(&mut physics.0, &state.forces.particle);
     }
 }
 

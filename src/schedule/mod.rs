@@ -6,7 +6,9 @@
 //!    buffers.
 //! 2. [`Phase::Forces`]: one system per KES effect (bending, trellising, stretch, damping, air
 //!    drag), each behind a run condition: it runs only if the scene's cloth carries that
-//!    [`Effect`] component. Then the link forces are summed onto nodes and handed to Rapier.
+//!    [`Effect`] component. Then the link forces are summed onto nodes; for a cloth with the
+//!    [`Implicit`] component they are replaced by the backward-Euler force ([`crate::implicit`]);
+//!    then they are handed to Rapier.
 //! 3. [`Phase::Step`]: Rapier's step (gravity, our forces, joints, contact, friction).
 //! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, the finite-value
 //!    guard, motion statistics, the settle criterion.
@@ -22,9 +24,10 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
 
 pub use cloth_components::{
-    Clock, ClothNodes, ClothState, EFFECT_NAMES, Effect, EffectLedger, Failure, Physics, SimulationFailure,
+    Clock, ClothNodes, ClothState, EFFECT_NAMES, Effect, EffectLedger, Failure, Implicit, Physics,
+    SimulationFailure,
 };
-pub use force_systems::{apply_effect, prepare_forces, push_forces, step_rapier};
+pub use force_systems::{apply_effect, prepare_forces, push_forces, solve_implicit, step_rapier, sum_forces};
 
 use crate::forces::{AirDrag, Bending, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising};
 use crate::measure::{Progress, measure_motion, report_progress, update_settle};
@@ -79,6 +82,8 @@ pub fn add_step_systems(schedule: &mut Schedule) {
             apply_effect::<LinkCompression>.run_if(any_with_component::<Effect<LinkCompression>>),
             apply_effect::<LinkDamping>.run_if(any_with_component::<Effect<LinkDamping>>),
             apply_effect::<AirDrag>.run_if(any_with_component::<Effect<AirDrag>>),
+            sum_forces,
+            solve_implicit.run_if(any_with_component::<Implicit>),
             push_forces,
         )
             .chain()

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
+use kes_cloth::forces::ClothTopology;
 use kes_cloth::material::Fabric;
 
 /// Path of a file in the crate.
@@ -69,4 +70,58 @@ pub fn rejection_message<T, E: std::fmt::Display>(
         Ok(Ok(_)) => panic!("{} was accepted", path.display()),
         Err(_) => panic!("{} made the loader panic", path.display()),
     }
+}
+
+/// Named configurations of a rectangular grid of at least 5 × 2 nodes (spacing σ): random
+/// (±σ/4), bent round a cylinder (θ ≈ 130°), folded back on itself at 0.5 and 0.2 rad (< π/4),
+/// and sheared by 20°, 45° and 60°.
+pub fn strained_configurations(topo: &ClothTopology) -> Vec<(String, Vec<DVec3>)> {
+    let sigma = topo.spacing;
+    let mut rng = Rng::new(7);
+    let flat = topo.rest_positions(DVec3::ZERO, DVec3::X, DVec3::Z);
+    let mut configs = Vec::new();
+    for seed in 0..3 {
+        let noisy: Vec<DVec3> = flat.iter().map(|p| *p + rng.vec(0.25 * sigma)).collect();
+        configs.push((format!("random {seed}"), noisy));
+    }
+    // Wrapped round a cylinder of radius 1.2σ about the weft (z) axis: θ ≈ 130°.
+    let r = 1.2 * sigma;
+    let bent = flat
+        .iter()
+        .map(|p| {
+            let a = p.x / r;
+            DVec3::new(r * a.sin(), r * (1.0 - a.cos()), p.z) + rng.vec(0.02 * sigma)
+        })
+        .collect();
+    configs.push(("bent".into(), bent));
+    // Folded back on itself at i = 3 with an opening angle of 0.5 rad and 0.2 rad (< π/4).
+    for fold in [0.5f64, 0.2] {
+        let folded = topo
+            .grid_coords
+            .iter()
+            .map(|&(i, j)| {
+                let (i, z) = (i as f64, j as f64 * sigma);
+                let p = if i <= 3.0 {
+                    DVec3::new(i * sigma, 0.0, z)
+                } else {
+                    let s = (i - 3.0) * sigma;
+                    DVec3::new(3.0 * sigma - s * fold.cos(), s * fold.sin(), z)
+                };
+                p + rng.vec(0.01 * sigma)
+            })
+            .collect();
+        configs.push((format!("folded {fold} rad"), folded));
+    }
+    // Sheared: the weft leans towards the warp by φ.
+    for phi_deg in [20.0f64, 45.0, 60.0] {
+        let phi = phi_deg.to_radians();
+        let weft = DVec3::new(phi.sin(), 0.0, phi.cos());
+        let sheared = topo
+            .rest_positions(DVec3::ZERO, DVec3::X, weft)
+            .into_iter()
+            .map(|p| p + rng.vec(0.02 * sigma))
+            .collect();
+        configs.push((format!("sheared {phi_deg}°"), sheared));
+    }
+    configs
 }

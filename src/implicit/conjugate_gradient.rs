@@ -1,0 +1,72 @@
+//! Conjugate gradients on 3-vector fields, for a symmetric positive definite operator.
+
+use glam::DVec3;
+
+/// How a solve ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CgReport {
+    /// Operator applications after the initial residual.
+    pub iterations: usize,
+    /// |b − A·x| / |b| at the end (0 when b = 0).
+    pub relative_residual: f64,
+}
+
+fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x.dot(*y)).sum()
+}
+
+/// Solves A·x = b, starting from the `x` passed in (a warm start), until |b − A·x| ≤
+/// `tolerance`·|b| or `max_iterations` products. `apply(p, out)` writes A·p into `out`;
+/// `inverse_diagonal` is the Jacobi preconditioner (1/A_ii per particle, for all three axes).
+/// `r`, `p`, `ap` are scratch buffers of the same length as `b`.
+#[allow(clippy::too_many_arguments)]
+pub fn conjugate_gradient(
+    mut apply: impl FnMut(&[DVec3], &mut [DVec3]),
+    b: &[DVec3],
+    x: &mut [DVec3],
+    inverse_diagonal: &[f64],
+    (r, z, p, ap): (&mut [DVec3], &mut [DVec3], &mut [DVec3], &mut [DVec3]),
+    tolerance: f64,
+    max_iterations: usize,
+) -> CgReport {
+    let b_norm = dot(b, b).sqrt();
+    if b_norm == 0.0 {
+        x.fill(DVec3::ZERO);
+        return CgReport::default();
+    }
+    apply(x, ap);
+    for i in 0..b.len() {
+        r[i] = b[i] - ap[i];
+        z[i] = r[i] * inverse_diagonal[i];
+    }
+    p.copy_from_slice(z);
+    let mut rz = dot(r, z);
+    let target = tolerance * b_norm;
+    let mut residual = dot(r, r).sqrt();
+    let mut iterations = 0;
+    while residual > target && iterations < max_iterations {
+        apply(p, ap);
+        iterations += 1;
+        let curvature = dot(p, ap);
+        if curvature <= 0.0 || !curvature.is_finite() {
+            break; // not positive definite along p: keep the best iterate so far
+        }
+        let alpha = rz / curvature;
+        for i in 0..b.len() {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * ap[i];
+            z[i] = r[i] * inverse_diagonal[i];
+        }
+        residual = dot(r, r).sqrt();
+        let rz_next = dot(r, z);
+        let beta = rz_next / rz;
+        rz = rz_next;
+        for i in 0..b.len() {
+            p[i] = z[i] + beta * p[i];
+        }
+    }
+    CgReport {
+        iterations,
+        relative_residual: residual / b_norm,
+    }
+}

@@ -1,0 +1,39 @@
+//! Linearly implicit (backward Euler) KES forces, after Baraff & Witkin (1998).
+//!
+//! Rapier samples our forces once per step, so applied as they are they are explicit, and a
+//! stiff fabric needs a step 10–20 times smaller than contact does (`docs/model.md` §7). With
+//! [`Integrator::Implicit`], each step instead:
+//!
+//! 1. evaluates every force F at the current positions and velocities (as the explicit pass does);
+//! 2. forms b = h·(F − h·H·v), H the clamped, positive semi-definite Hessian of our energies
+//!    ([`crate::forces::ForceGenerator::add_stiffness_product`]);
+//! 3. solves (M + h·C + h²·H)·Δv = b by conjugate gradients, matrix-free, warm-started from the
+//!    previous step's Δv (C the damping matrix of the dissipative effects), with the normal
+//!    component of Δv held at zero for nodes resting on a fixed surface (Baraff & Witkin's
+//!    filter), except where the force on the node already points away from the surface;
+//! 4. hands Rapier the force M·Δv/h, so that its step adds exactly Δv (and gravity) before its
+//!    joints and contacts act.
+//!
+//! Only our forces are implicit; Rapier still treats gravity, joints and contact its own way.
+//! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
+
+mod conjugate_gradient;
+mod implicit_solver;
+
+pub use conjugate_gradient::{CgReport, conjugate_gradient};
+pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
+
+/// A node closer than this (m) to a fixed surface counts as resting on it for the solve (one
+/// allowed linear error of the contact solver, `bodies::configure_world`).
+pub const SUPPORT_GAP: f64 = 1e-3;
+
+/// How our forces are integrated over a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integrator {
+    /// Forces at the start of the step, held constant (symplectic Euler in Rapier): cheapest
+    /// per step, but stable only for steps below the fabric's explicit limit.
+    Explicit,
+    /// Linearly implicit backward Euler: stable at any step, with numerical damping that grows
+    /// with h.
+    Implicit(ImplicitSettings),
+}

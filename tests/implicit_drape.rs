@@ -1,0 +1,60 @@
+//! The implicit integrator drapes thick cotton, with its full measured B and G, at the step
+//! contact needs (1/240 s), where the explicit integrator diverges.
+//!
+//! Measured (seed 0, this build): explicit at 0.25 ms DC 0.677 with 4 nodes; implicit at
+//! 1/240 s DC 0.658 with 4 nodes, settled at 0.9 s simulated, link strain 8 %. The DC
+//! tolerance here, 0.05, is the spread of the implicit result over steps from 0.5 to 4.2 ms
+//! (0.652–0.703); the issue's own target, 0.02, is reported in the issue note, not asserted.
+
+use kes_cloth::run::{RunOptions, simulate};
+use kes_cloth::scene::Scene;
+
+mod common;
+
+const CONTACT_STEP: &str = "integration.dt_s=0.0041666667";
+
+fn drape(sets: &[&str]) -> kes_cloth::run::RunOutcome {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets).unwrap();
+    simulate(&scene, &RunOptions::default())
+}
+
+#[test]
+fn explicit_cotton_diverges_at_the_contact_step() {
+    // Damping within the explicit limit at this step (1/(4·dt) = 60/s), so the scene is valid.
+    let outcome = drape(&[
+        CONTACT_STEP,
+        "integration.max_time_s=1",
+        "effects.damping.rate_per_s=50",
+    ]);
+    let failure = outcome
+        .metrics
+        .failure
+        .expect("explicit KES forces at 1/240 s must diverge");
+    assert!(failure.message.contains("runaway") || failure.message.contains("non-finite"));
+}
+
+#[test]
+fn implicit_cotton_settles_at_the_contact_step_near_the_explicit_reference() {
+    let reference = drape(&[]).metrics;
+    let implicit = drape(&[CONTACT_STEP, "integration.integrator=Implicit"]).metrics;
+    assert!(implicit.failure.is_none(), "diverged: {:?}", implicit.failure);
+    assert!(implicit.settled, "did not settle in {} s", implicit.sim_time_s);
+    let (dc, dc_ref) = (
+        implicit.drape_coefficient.unwrap(),
+        reference.drape_coefficient.unwrap(),
+    );
+    assert!(
+        (dc - dc_ref).abs() <= 0.05,
+        "implicit DC {dc:.3} vs explicit reference {dc_ref:.3}"
+    );
+    assert_eq!(implicit.nodes, reference.nodes, "node counts differ");
+    // Rapier's rope joints at one iteration per 4.2 ms step hold the links less tightly than
+    // at 0.25 ms (1 %): measured 8 %; 12 % would mean the joints are losing the cloth.
+    assert!(
+        implicit.max_strain < 0.12,
+        "link strain {:.1} %",
+        implicit.max_strain * 100.0
+    );
+    assert!(implicit.cg_unconverged_steps == Some(0), "CG stopped early");
+}
