@@ -50,6 +50,7 @@
 //! - [`bodies`]: cloth nodes as Rapier bodies (the one place that knows how).
 //! - [`embed`]: the builder, the plain-Rapier cloth and the bevy_ecs installer.
 //! - [`measure`], [`output`], [`run`], [`repeat`]: measurements, files, running, repeats.
+//! - [`study`]: work–precision studies across settings.
 //!
 //! All quantities are SI (N, m, kg, s, rad) unless a name or doc says otherwise.
 
@@ -68,5 +69,6 @@ mod ron_file;
 pub mod run;
 pub mod scene;
 pub mod schedule;
+pub mod study;
 
 pub use ron_file::RonError;

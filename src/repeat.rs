@@ -30,21 +30,38 @@ pub struct RepeatSummary {
 
 /// Runs `scene` with seeds 0..n−1 on `threads` threads; outcomes are in seed order.
 pub fn simulate_repeats(scene: &Scene, n: usize, threads: usize) -> Vec<RunOutcome> {
+    let scenes: Vec<Scene> = (0..n)
+        .map(|seed| {
+            let mut run = scene.clone();
+            run.spec.seed = seed as u64;
+            run
+        })
+        .collect();
+    simulate_all(&scenes, threads, |_, _| {})
+}
+
+/// Runs every scene, `threads` at a time (each run on one thread); outcomes are in the order of
+/// `scenes`. `on_done(i, outcome)` is called as each run finishes (e.g. for progress).
+pub fn simulate_all(
+    scenes: &[Scene],
+    threads: usize,
+    on_done: impl Fn(usize, &RunOutcome) + Sync,
+) -> Vec<RunOutcome> {
+    let n = scenes.len();
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<RunOutcome>>> = Mutex::new((0..n).map(|_| None).collect());
     std::thread::scope(|s| {
         for _ in 0..threads.clamp(1, n.max(1)) {
             s.spawn(|| {
                 loop {
-                    let seed = next.fetch_add(1, Ordering::Relaxed);
-                    if seed >= n {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= n {
                         break;
                     }
-                    let mut run = scene.clone();
-                    run.spec.seed = seed as u64;
-                    let outcome = simulate(&run, &RunOptions::default());
+                    let outcome = simulate(&scenes[i], &RunOptions::default());
+                    on_done(i, &outcome);
                     if let Ok(mut r) = results.lock() {
-                        r[seed] = Some(outcome);
+                        r[i] = Some(outcome);
                     }
                 }
             });

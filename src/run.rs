@@ -134,6 +134,7 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
         } else {
             0.0
         },
+        peak_penetration_m: motion.peak_penetration,
         max_speed_m_per_s: motion.max_speed,
         window_speed_m_per_s: settle.window_speed,
         kinetic_energy_j: motion.kinetic_energy,
@@ -387,6 +388,11 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.max_speed_m_per_s * 1e3,
         m.window_speed_m_per_s
             .map_or("-".to_string(), |v| format!("{:.2} mm/s", v * 1e3))
+    );
+    s += &format!(
+        "  deepest node inside a collider: {:.2} mm now, {:.2} mm at the worst step\n",
+        m.max_penetration_m * 1e3,
+        m.peak_penetration_m * 1e3
     );
     if let (Some(dc), Some(n)) = (m.drape_coefficient, m.nodes) {
         let tag = if m.settled {

@@ -85,6 +85,8 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
             "seed=7".into(),
             "cloth.shape.diameter_m=0.2".into(),
             "effects.stretch=Kes".into(),
+            // The KES law needs a far smaller explicit step; this test is about overrides.
+            "integration.step_guard=false".into(),
         ],
     )
     .unwrap();

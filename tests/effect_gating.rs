@@ -48,7 +48,7 @@ fn declared_effects_run_every_step() {
         assert_eq!(effects[name].calls, steps, "{name}");
     }
     assert_eq!(effects["stretch_kes"].calls, 0);
-    let (steps, effects) = effects_of(&["effects.stretch=Seed"]);
+    let (steps, effects) = effects_of(&["effects.stretch=Seed", "integration.step_guard=false"]);
     assert_eq!(effects["stretch_seed"].calls, steps);
     assert_eq!(
         effects["compression"].calls, 0,

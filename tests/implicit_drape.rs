@@ -21,11 +21,13 @@ fn drape(sets: &[&str]) -> kes_cloth::run::RunOutcome {
 
 #[test]
 fn explicit_cotton_diverges_at_the_contact_step() {
-    // Damping within the explicit limit at this step (1/(4·dt) = 60/s), so the scene is valid.
+    // Damping within the explicit limit at this step (1/(4·dt) = 60/s), and past the stability
+    // guard on purpose (it refuses this step).
     let outcome = drape(&[
         CONTACT_STEP,
         "integration.max_time_s=1",
         "effects.damping.rate_per_s=50",
+        "integration.step_guard=false",
     ]);
     let failure = outcome
         .metrics

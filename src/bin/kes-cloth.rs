@@ -19,7 +19,7 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth study scenes/drape_cotton.ron --vary integration.dt_s=0.0005,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -52,6 +52,37 @@ enum Command {
         /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
         #[arg(long, value_name = "N")]
         repeat: Option<usize>,
+    },
+    /// Measure what accuracy costs in time: run a scene across a grid of settings (in parallel)
+    /// and compare every run with a converged reference.
+    ///
+    /// Writes into DIR (default `out/<scene name>-study/`): `study.csv` and `study.md` (one row
+    /// per setting: spacing, step, particles, steps, wall time, DC and nodes, DC error and shape
+    /// error against the reference, strain, settled) and `work_precision.png` (error against
+    /// wall time, log-log, one curve per varied key, the scene as shipped marked).
+    ///
+    /// Example: kes-cloth study scenes/drape_cotton.ron --vary cloth.spacing_m=0.0125,0.01,0.0075
+    ///   --reference cloth.spacing_m=0.005 --reference integration.dt_s=0.000125
+    Study {
+        /// The scene file (RON).
+        scene: PathBuf,
+        /// A field to vary and its values, e.g. `integration.dt_s=0.0005,0.00025,0.000125`.
+        /// Repeatable: the grid is the product of all of them.
+        #[arg(long, value_name = "KEY=V1,V2,...", required = true)]
+        vary: Vec<kes_cloth::study::Vary>,
+        /// An override that makes the converged reference (finest spacing, smallest step).
+        /// Repeatable. Without any, the scene as shipped is the reference.
+        #[arg(long, value_name = "KEY=VALUE")]
+        reference: Vec<String>,
+        /// An override applied to every run, reference included. Repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output folder [default: out/<scene name>-study].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Runs at a time [default: all cores].
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
     },
     /// Validate a scene and print its resolved parameters in SI, without running it.
     Check {
@@ -97,6 +128,14 @@ fn main() -> ExitCode {
             }
             ExitCode::SUCCESS
         }
+        Command::Study {
+            scene,
+            vary,
+            reference,
+            set,
+            out,
+            threads,
+        } => run_study(&scene, vary, reference, &set, out, threads),
         Command::Check { scene, set } => match Scene::load(&scene, &set) {
             Ok(s) => {
                 println!("{}", kes_cloth::scene::describe(&s));
@@ -161,6 +200,43 @@ fn run_repeats(scene: &Scene, n: usize, dir: &std::path::Path, quiet: bool) -> E
         Some(f) => fail(&kes_cloth::run::DivergenceError(f)),
         None => ExitCode::SUCCESS,
     }
+}
+
+fn run_study(
+    scene: &std::path::Path,
+    vary: Vec<kes_cloth::study::Vary>,
+    reference: Vec<String>,
+    set: &[String],
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> ExitCode {
+    let plan = kes_cloth::study::StudyPlan { vary, reference };
+    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
+    let runs = plan.settings().len() + 1;
+    let bar = indicatif::ProgressBar::new(runs as u64).with_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} runs, {elapsed} elapsed")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("study");
+    let study = kes_cloth::study::run_study(scene, set, &plan, threads, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let study = match study {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-study", study.scene)));
+    if let Err(e) = kes_cloth::study::write_study(&study, &dir) {
+        return fail(&e);
+    }
+    match std::fs::read_to_string(dir.join("study.md")) {
+        Ok(table) => println!("{table}"),
+        Err(e) => return fail(&e),
+    }
+    println!("wrote {}", dir.display());
+    ExitCode::SUCCESS
 }
 
 fn fail(e: &dyn std::fmt::Display) -> ExitCode {

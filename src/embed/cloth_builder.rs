@@ -78,6 +78,7 @@ pub struct ClothBuilder {
     spacing: f64,
     centre: DVec3,
     warp_angle_deg: f64,
+    initial_shear_deg: f64,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
     stretch: StretchModel,
@@ -101,6 +102,7 @@ impl ClothBuilder {
             spacing: 0.01,
             centre: DVec3::ZERO,
             warp_angle_deg: 0.0,
+            initial_shear_deg: 0.0,
             node_radius: None,
             perturbation: (0.0, 0),
             stretch: StretchModel::Constraint,
@@ -133,6 +135,13 @@ impl ClothBuilder {
     pub fn pose(mut self, centre: DVec3, warp_angle_deg: f64) -> Self {
         self.centre = centre;
         self.warp_angle_deg = warp_angle_deg;
+        self
+    }
+
+    /// Starts the cloth sheared in its plane: the weft leans towards the warp by `degrees`, every
+    /// link at its rest length (default 0).
+    pub fn initial_shear(mut self, degrees: f64) -> Self {
+        self.initial_shear_deg = degrees;
         self
     }
 
@@ -229,6 +238,8 @@ impl ClothBuilder {
         let angle = self.warp_angle_deg.to_radians();
         let warp = DVec3::new(angle.cos(), 0.0, -angle.sin());
         let weft = DVec3::new(angle.sin(), 0.0, angle.cos());
+        let shear = self.initial_shear_deg.to_radians();
+        let weft = shear.cos() * weft + shear.sin() * warp;
         let origin = self.centre - hu * sigma * warp - hv * sigma * weft;
         let positions = topology.rest_positions(origin, warp, weft);
         (topology, positions)

@@ -18,10 +18,11 @@
 //! perturbation, which the implicit integrator ([`crate::implicit`]) solves with.
 
 pub mod air_drag;
-mod element_stiffness;
 pub mod bending;
 mod cloth_geometry;
 mod cloth_topology;
+mod element_stiffness;
+mod explicit_limit;
 mod force_buffer;
 pub mod kes_tensile;
 pub mod link_compression;
@@ -37,6 +38,7 @@ pub use bending::Bending;
 pub use cloth_geometry::ClothGeometry;
 pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
+pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
 pub use kes_tensile::KesTensile;
 pub use link_compression::LinkCompression;

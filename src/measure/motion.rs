@@ -22,7 +22,15 @@ pub struct Motion {
     pub max_strain: f64,
     /// Largest `max_strain` seen so far in the run.
     pub peak_strain: f64,
+    /// Deepest node centre inside a world collider at the end of any step so far (m); measured
+    /// only where a [`WorldColliders`] resource lists the colliders.
+    pub peak_penetration: f64,
 }
+
+/// The world's colliders as true shapes with their centres (m), for the per-step penetration
+/// check (inserted by the scene runner; optional for embedders).
+#[derive(Resource, Clone, Debug, Default)]
+pub struct WorldColliders(pub Vec<(crate::bodies::WorldShape, DVec3)>);
 
 /// |l/σ − 1| of every link.
 pub fn link_strains<'a>(
@@ -65,6 +73,7 @@ pub fn measure_motion(
     clock: Res<Clock>,
     mut motion: ResMut<Motion>,
     mut failure: ResMut<Failure>,
+    colliders: Option<Res<WorldColliders>>,
     mut cloths: Query<(&ClothNodes, &mut ClothState)>,
 ) {
     for (nodes, mut state) in &mut cloths {
@@ -91,7 +100,7 @@ pub fn measure_motion(
             });
             return;
         }
-        let peak = motion.peak_strain;
+        let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
         let now = measure(&nodes.0, &state.topology, &state.positions, &state.velocities);
         if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
             failure.0 = Some(SimulationFailure {
@@ -113,6 +122,10 @@ pub fn measure_motion(
         }
         *motion = now;
         motion.peak_strain = peak.max(motion.max_strain);
+        let depth = colliders
+            .as_ref()
+            .map_or(0.0, |c| super::max_penetration(&c.0, &state.positions).0);
+        motion.peak_penetration = peak_penetration.max(depth);
     }
 }
 

@@ -62,6 +62,8 @@ pub struct Metrics {
     pub min_height_m: f64,
     /// Deepest node centre inside a collider at the end (m); 0 when none is inside.
     pub max_penetration_m: f64,
+    /// Deepest node centre inside a collider at the end of any step (m).
+    pub peak_penetration_m: f64,
     /// Speed of the fastest node at the end (m/s).
     pub max_speed_m_per_s: f64,
     /// Largest node travel over the last settle window divided by its length (m/s): the

@@ -32,6 +32,12 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The current value of the field at `key` (a `--set` path, e.g. `integration.dt_s`), as
+    /// JSON; `None` if there is no such field.
+    pub fn field(&self, key: &str) -> Option<serde_json::Value> {
+        scene_overrides::read(&self.spec, key)
+    }
+
     /// Reads `path`, applies `--set` overrides in order, validates, and loads the fabric.
     pub fn load(path: impl AsRef<Path>, overrides: &[String]) -> Result<Self, SceneError> {
         let path = path.as_ref().to_path_buf();
@@ -84,6 +90,12 @@ impl Scene {
             path: path.clone(),
             source,
         })?;
+        check_explicit_step(&spec, &fabric).map_err(|(field, value, reason)| SceneError::Invalid {
+            path: path.clone(),
+            field,
+            value,
+            reason,
+        })?;
         Ok(Self { path, spec, fabric })
     }
 
@@ -93,5 +105,35 @@ impl Scene {
             .cloth
             .node_radius_m
             .unwrap_or(self.spec.cloth.spacing_m / 2.0)
+    }
+}
+
+/// The stability guard: an explicit step longer than the tightest limit of the scene's effects
+/// (`forces::explicit_step_limits`) is refused, naming the effect and the step it needs.
+fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (String, String, String)> {
+    let i = &spec.integration;
+    if i.integrator != IntegratorSpec::Explicit || !i.step_guard {
+        return Ok(());
+    }
+    let fx = &spec.effects;
+    let limits = crate::forces::explicit_step_limits(
+        fabric,
+        spec.cloth.spacing_m,
+        fx.bending,
+        fx.trellising,
+        fx.stretch,
+    );
+    match limits.first() {
+        Some(tightest) if i.dt_s > tightest.max_step => Err((
+            "integration.dt_s".to_string(),
+            i.dt_s.to_string(),
+            format!(
+                "must lie in (0, {:.3e}] s: explicit {} of this fabric at σ = {} m is stable only \
+                 below 1.6/ω = {:.3e} s (docs/model.md §10); use a smaller step, or \
+                 `integration.integrator: Implicit`, or `integration.step_guard: false` to run it anyway",
+                tightest.max_step, tightest.effect, spec.cloth.spacing_m, tightest.max_step
+            ),
+        )),
+        _ => Ok(()),
     }
 }

@@ -59,6 +59,10 @@ pub struct ClothSpec {
     /// Angle of the warp from the +x axis, about +y (degrees; default 0).
     #[serde(default)]
     pub warp_angle_deg: f64,
+    /// Initial in-plane shear φ: the weft starts leaning towards the warp by this angle, links
+    /// at their rest length (degrees, within ±60; default 0). For release tests.
+    #[serde(default)]
+    pub initial_shear_deg: f64,
     /// Amplitude of the seeded random vertical offset of each node (m; default 0). Breaks the
     /// symmetry of a perfectly flat start so repeats can differ, like laboratory repeats.
     #[serde(default)]
@@ -215,6 +219,10 @@ pub struct IntegrationSpec {
     /// Settings of the implicit solve (ignored by `Explicit`).
     #[serde(default)]
     pub implicit_solver: ImplicitSolverSpec,
+    /// Refuse an explicit step longer than the fabric's stability limit (default true;
+    /// `docs/model.md` §10). Off only to study instability on purpose.
+    #[serde(default = "yes")]
+    pub step_guard: bool,
     /// Rapier solver iterations (substeps) per step (default 1). Our forces are sampled once
     /// per step; with more than one substep Rapier integrates them in a way that is unstable
     /// for any stiffness (see `docs/rapier.md`), so keep 1 unless no KES force is on.

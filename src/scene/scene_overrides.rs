@@ -30,6 +30,16 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
     serde_json::from_value(tree).map_err(|e| format!("`{key}` does not accept {}: {e}", raw.trim()))
 }
 
+/// The value of the field at `key` (a `--set` path) as JSON, if the scene has it.
+pub(crate) fn read(scene: &SceneFile, key: &str) -> Option<serde_json::Value> {
+    let mut tree = serde_json::to_value(scene).ok()?;
+    let mut node = &mut tree;
+    for part in key.split('.') {
+        node = step_into(node, part)?;
+    }
+    Some(node.clone())
+}
+
 /// The child `part` of `node`, looking through a single-variant enum wrapper if needed.
 fn step_into<'a>(node: &'a mut serde_json::Value, part: &str) -> Option<&'a mut serde_json::Value> {
     let serde_json::Value::Object(map) = node else {

@@ -112,6 +112,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
     }
     finite3("cloth.centre_m", c.centre_m)?;
     in_closed("cloth.warp_angle_deg", c.warp_angle_deg, -360.0, 360.0, "deg")?;
+    in_closed("cloth.initial_shear_deg", c.initial_shear_deg, -60.0, 60.0, "deg")?;
     in_closed(
         "cloth.perturbation_m",
         c.perturbation_m,

@@ -11,7 +11,7 @@ use crate::bodies::{WorldShape, add_world_collider, configure_world};
 use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
 use crate::forces::ClothTopology;
 use crate::implicit::{ImplicitSettings, Integrator};
-use crate::measure::{Motion, SettleState};
+use crate::measure::{Motion, SettleState, WorldColliders};
 use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 
 /// The scene's cloth as a [`ClothBuilder`] (fabric, outline, spacing, pose, perturbation,
@@ -30,6 +30,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .outline(outline)
         .spacing(c.spacing_m)
         .pose(DVec3::from_array(c.centre_m), c.warp_angle_deg)
+        .initial_shear(c.initial_shear_deg)
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)
         .stretch(fx.stretch)
@@ -102,6 +103,7 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
     let mut world = World::new();
     let entity = spawn_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);
+    world.insert_resource(WorldColliders(world_shapes(scene)));
     (world, entity)
 }
 

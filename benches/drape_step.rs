@@ -1,0 +1,154 @@
+//! One step of the drape scene (thick cotton on the seed's drapemeter, explicit, in contact with
+//! the disk) at about 1k, 4k, 16k and 64k nodes, and the same sample as Rapier's
+//! built-in soft-body cloth (its default warp/weft/shear edges and bend edges, none of our
+//! forces) at the same node count, step and solver settings: the peer baseline.
+//!
+//! Criterion times a whole step of each. After each size, the split of our step (our force
+//! generators, the implicit solve if any, Rapier's step, and measurement = the rest) is printed
+//! from the scene runner's own per-effect ledger. `KES_BENCH_MAX_NODES` (default 70000) skips
+//! larger sizes for a quick run.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use bevy_ecs::prelude::*;
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use glam::Vec3;
+use kes_cloth::bodies::{add_world_collider, configure_world};
+use kes_cloth::scene::Scene;
+use kes_cloth::scene::spawn::{spawn, world_shapes};
+use kes_cloth::schedule::{EffectLedger, build_step_schedule};
+use rapier3d::prelude::*;
+
+/// Sample diameter (m) of the drape scene.
+const DIAMETER: f64 = 0.254;
+/// Steps run before timing, so the cloth is in contact with the disk.
+const SETTLE_STEPS: usize = 240;
+
+/// The drape scene at about `nodes` nodes. The explicit step limit of bending scales as σ², so
+/// the step is 0.25 ms·(σ/1 cm)² (stable at every size); the sample starts just above the disk
+/// so that the warm-up steps bring it into contact at any step.
+fn scene(nodes: usize) -> Scene {
+    // A circle of diameter D at spacing σ holds about (π/4)(D/σ)² nodes.
+    let spacing = DIAMETER * (std::f64::consts::PI / (4.0 * nodes as f64)).sqrt();
+    let dt = 2.5e-4 * (spacing / 0.01).powi(2);
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/drape_cotton.ron");
+    let sets = [
+        format!("cloth.spacing_m={spacing}"),
+        format!("cloth.perturbation_m={}", spacing / 20.0),
+        format!("cloth.centre_m=[0.0,{},0.0]", 0.55 * spacing),
+        format!("integration.dt_s={dt}"),
+    ];
+    Scene::load(path, &sets).expect("drape scene loads")
+}
+
+/// Rapier's own cloth: an n × n square of the same node count, mass and spacing, on the same
+/// colliders with the same integration settings.
+fn builtin_cloth(scene: &Scene, nodes: usize) -> PhysicsWorld {
+    let spec = &scene.spec;
+    let i = &spec.integration;
+    let mut world = PhysicsWorld::default();
+    configure_world(
+        &mut world,
+        spec.world.gravity_m_per_s2,
+        i.dt_s,
+        i.solver_iterations,
+        i.internal_pgs_iterations,
+    );
+    for (col, (shape, _)) in spec.world.colliders.iter().zip(world_shapes(scene)) {
+        add_world_collider(&mut world, shape, col.centre_m, col.friction, 0.0);
+    }
+    let n = (nodes as f64).sqrt().round() as usize;
+    let sigma = spec.cloth.spacing_m as f32;
+    let half = 0.5 * sigma * (n - 1) as f32;
+    let mass = (scene.fabric.areal_density * spec.cloth.spacing_m.powi(2)) as f32;
+    let builder = SoftBodyBuilder::cloth(
+        Vec3::new(-half, spec.cloth.centre_m[1] as f32, -half),
+        Vec3::new(sigma, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, sigma),
+        n,
+        n,
+    )
+    .particle_mass(mass)
+    .particle_radius(0.5 * sigma)
+    .can_sleep(false);
+    world.insert_soft_body(builder);
+    world
+}
+
+fn bench(c: &mut Criterion) {
+    let max_nodes: usize = std::env::var("KES_BENCH_MAX_NODES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(70_000);
+    let mut group = c.benchmark_group("drape_step");
+    group.sample_size(10);
+    for nodes in [1_000usize, 4_000, 16_000, 64_000]
+        .into_iter()
+        .filter(|n| *n <= max_nodes)
+    {
+        let scene = scene(nodes);
+        let (mut world, _) = spawn(&scene);
+        let mut schedule = build_step_schedule();
+        for _ in 0..SETTLE_STEPS {
+            schedule.run(&mut world);
+        }
+        let actual = scene_node_count(&mut world);
+        *world.resource_mut::<EffectLedger>() = EffectLedger::with_all_effects();
+        let start = Instant::now();
+        group.bench_function(BenchmarkId::new("kes", actual), |b| {
+            b.iter(|| schedule.run(black_box(&mut world)))
+        });
+        print_split(
+            actual,
+            &world.resource::<EffectLedger>().clone(),
+            start.elapsed().as_secs_f64(),
+        );
+
+        let mut builtin = builtin_cloth(&scene, actual);
+        for _ in 0..SETTLE_STEPS {
+            builtin.step();
+        }
+        group.bench_function(BenchmarkId::new("rapier_builtin_cloth", actual), |b| {
+            b.iter(|| black_box(&mut builtin).step())
+        });
+    }
+    group.finish();
+}
+
+fn scene_node_count(world: &mut World) -> usize {
+    let mut query = world.query::<&kes_cloth::schedule::ClothState>();
+    query.iter(world).map(|s| s.positions.len()).sum()
+}
+
+/// Our step's split, from the scene runner's ledger over every timed step.
+fn print_split(nodes: usize, ledger: &EffectLedger, wall: f64) {
+    let (calls, rapier) = ledger.get("rapier_step");
+    if calls == 0 {
+        return;
+    }
+    let solve = ledger.get("implicit_solve").1;
+    let forces: f64 = ledger
+        .entries
+        .iter()
+        .filter(|(name, _, _)| *name != "rapier_step" && *name != "implicit_solve")
+        .map(|(_, _, s)| s)
+        .sum();
+    let per = |s: f64| s / calls as f64 * 1e3;
+    let step = wall / calls as f64 * 1e3;
+    eprintln!(
+        "drape_step/kes/{nodes}: {calls} steps, {step:.3} ms per step (incl. criterion overhead): \
+         our forces {:.3} ms ({:.1} %), implicit solve {:.3} ms, Rapier {:.3} ms ({:.1} %), \
+         measurement and schedule {:.3} ms; per node-step {:.0} ns",
+        per(forces),
+        100.0 * forces / wall,
+        per(solve),
+        per(rapier),
+        100.0 * rapier / wall,
+        step - per(forces) - per(solve) - per(rapier),
+        step * 1e6 / nodes as f64
+    );
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,81 @@
+//! The largest step at which each KES force stays stable when applied explicitly
+//! (`docs/model.md` §10).
+//!
+//! Rapier's step with our forces held over it is symplectic Euler, stable while ω·dt < 2 for the
+//! fastest mode. Per node of mass m = ρ_A·σ², with tangent stiffnesses taken at their largest over
+//! the range a drape reaches (the curves' maximum slope up to full fold or full shear, the
+//! tensile laws at EMT):
+//!
+//! * bending: the out-of-plane checkerboard mode bends every warp and weft spring by 4u/σ, so
+//!   k = 16·(B_warp + B_weft)/σ²;
+//! * trellising: the in-plane checkerboard shear mode, k = 4·G (G in N/m per radian);
+//! * stretch by the KES law, k = 4·T'(EMT) = 4·n·T_m/EMT; by the seed's law, k = 4·(4·T_m/EMT);
+//!
+//! and ω = √(k/m). Symplectic Euler's own limit is ω·dt = 2, but near it the highest modes are
+//! barely damped and contact and joints add stiffness: thick cotton at 1 cm (trellising,
+//! 2/ω = 0.46 ms) settles at 0.35 ms (ω·dt = 1.54), still moves at 0.8 m/s after 3 s at 0.41 ms
+//! (ω·dt = 1.8) and diverges at 1.37 ms. The limit used is therefore ω·dt ≤ [`MAX_OMEGA_DT`].
+//! The compression spring and link damping are sized from the step itself.
+
+use crate::material::{Fabric, Thread};
+use crate::scene::StretchModel;
+
+/// Largest ω·dt allowed for an explicit force (dimensionless; symplectic Euler's bound is 2).
+pub const MAX_OMEGA_DT: f64 = 1.6;
+
+/// One effect's explicit step limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepLimit {
+    /// The effect, as scenes and metrics name it.
+    pub effect: &'static str,
+    /// [`MAX_OMEGA_DT`]/ω: the largest explicit step allowed (s).
+    pub max_step: f64,
+}
+
+/// The explicit step limit of every listed effect for `fabric` at node spacing `spacing` (m),
+/// tightest first.
+pub fn explicit_step_limits(
+    fabric: &Fabric,
+    spacing: f64,
+    bending: bool,
+    trellising: bool,
+    stretch: StretchModel,
+) -> Vec<StepLimit> {
+    let mass = fabric.areal_density * spacing * spacing;
+    let limit = |effect, stiffness: f64| StepLimit {
+        effect,
+        max_step: MAX_OMEGA_DT / (stiffness / mass).sqrt(),
+    };
+    let threads = [Thread::Warp, Thread::Weft];
+    let mut limits = Vec::new();
+    if bending {
+        // Up to K = 2/σ, a thread folded flat over one spacing.
+        let b: f64 = threads
+            .iter()
+            .map(|t| fabric.bending(*t).moment.max_slope(2.0 / spacing))
+            .sum();
+        limits.push(limit("bending", 16.0 * b / (spacing * spacing)));
+    }
+    if trellising {
+        limits.push(limit("trellising", 4.0 * fabric.shear.force.max_slope(1.0)));
+    }
+    let tensile = |per_law: &dyn Fn(&crate::material::TensileLaw) -> f64| {
+        threads
+            .iter()
+            .map(|t| per_law(&fabric.tensile(*t).law))
+            .fold(0.0, f64::max)
+    };
+    match stretch {
+        StretchModel::Constraint => {}
+        StretchModel::Kes => limits.push(limit(
+            "stretch_kes",
+            4.0 * tensile(&|law| law.stiffness(law.strain_at_max_load)),
+        )),
+        StretchModel::Seed => limits.push(limit(
+            "stretch_seed",
+            4.0 * tensile(&|law| 4.0 * law.max_load / law.strain_at_max_load),
+        )),
+    }
+    limits.sort_by(|a, b| a.max_step.total_cmp(&b.max_step));
+    limits
+}

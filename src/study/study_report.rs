@@ -1,0 +1,118 @@
+//! A study's files: `study.csv`, `study.md` and `work_precision.png`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::Study;
+use super::work_precision_plot::plot_work_precision;
+use crate::output::OutputError;
+
+/// Writes the study's table (CSV and Markdown) and its work–precision diagram into `dir`.
+pub fn write_study(study: &Study, dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::new(dir, e))?;
+    let csv = dir.join("study.csv");
+    std::fs::write(&csv, csv_text(study)).map_err(|e| OutputError::new(&csv, e))?;
+    let md = dir.join("study.md");
+    std::fs::write(&md, markdown(study)).map_err(|e| OutputError::new(&md, e))?;
+    let png = dir.join("work_precision.png");
+    plot_work_precision(study, &png).map_err(|e| OutputError::new(&png, e))
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or(String::new(), |v| format!("{v:.digits$}"))
+}
+
+fn csv_text(study: &Study) -> String {
+    let mut s = study.keys.join(",");
+    s += ",particles,spacing_m,dt_s,integrator,steps,wall_time_s,settled,settle_time_s,\
+          drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default\n";
+    for row in &study.rows {
+        let m = &row.metrics;
+        let values: Vec<&str> = row.setting.iter().map(|(_, v)| v.as_str()).collect();
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{}",
+            values.join(","),
+            m.particles,
+            m.spacing_m,
+            m.dt_s,
+            m.integrator,
+            m.steps,
+            m.wall_time_s,
+            m.settled,
+            opt(m.settle_time_s, 4),
+            opt(m.drape_coefficient, 4),
+            m.nodes.map_or(String::new(), |n| n.to_string()),
+            opt(row.dc_error, 4),
+            opt(row.shape_error_m, 6),
+            m.max_strain,
+            m.failure.is_some(),
+            row.is_default
+        );
+    }
+    s
+}
+
+fn markdown(study: &Study) -> String {
+    let r = &study.reference;
+    let mut s = format!("# Study of `{}`\n\n", study.scene);
+    let _ = writeln!(
+        s,
+        "Reference ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}; DC {}, {} nodes, {:.1} s wall.\n",
+        if study.reference_setting.is_empty() {
+            "the scene as shipped".to_string()
+        } else {
+            format!("`{}`", study.reference_setting.join(" "))
+        },
+        r.particles,
+        r.spacing_m * 1e3,
+        r.dt_s * 1e3,
+        r.integrator,
+        opt(r.drape_coefficient, 3),
+        r.nodes.map_or("-".into(), |n| n.to_string()),
+        r.wall_time_s
+    );
+    s += "Errors are against the reference: DC error |DC − DC_ref|; shape error is the RMS distance \
+          of the run's nodes from the reference's draped surface. ★ marks the scene's own setting.\n\n";
+    let _ = writeln!(
+        s,
+        "| {} | nodes | dt (ms) | wall (s) | settled (s) | DC | folds | DC error | shape error (mm) | max strain |",
+        study.keys.join(" | ")
+    );
+    let _ = writeln!(s, "|{}", "---|".repeat(study.keys.len() + 9));
+    for row in &study.rows {
+        let m = &row.metrics;
+        let values: Vec<String> = row
+            .setting
+            .iter()
+            .enumerate()
+            .map(|(i, (_, v))| {
+                if i == 0 && row.is_default {
+                    format!("★ {v}")
+                } else {
+                    v.clone()
+                }
+            })
+            .collect();
+        let settled = match (m.failure.is_some(), m.settle_time_s) {
+            (true, _) => "diverged".to_string(),
+            (false, Some(t)) if m.settled => format!("{t:.2}"),
+            _ => "no".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.3} | {:.1} | {} | {} | {} | {} | {} | {:.1} % |",
+            values.join(" | "),
+            m.particles,
+            m.dt_s * 1e3,
+            m.wall_time_s,
+            settled,
+            opt(m.drape_coefficient, 3),
+            m.nodes.map_or("-".into(), |n| n.to_string()),
+            opt(row.dc_error, 3),
+            opt(row.shape_error_m.map(|e| e * 1e3), 2),
+            m.max_strain * 100.0
+        );
+    }
+    s
+}

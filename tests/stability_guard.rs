@@ -1,0 +1,68 @@
+//! The stability guard: from the fabric's tangent stiffness, node mass and spacing it bounds the
+//! explicit step (ω·dt ≤ 1.6, `docs/model.md` §10). A run just inside the bound is stable and
+//! settles; well outside it, with the guard switched off, the run diverges; with the guard on,
+//! such a scene is refused with a message naming the effect, the step it needs and the way out.
+
+use kes_cloth::forces::explicit_step_limits;
+use kes_cloth::run::{RunOptions, simulate};
+use kes_cloth::scene::{Scene, StretchModel};
+
+mod common;
+
+fn cotton_limit() -> (f64, &'static str) {
+    let fabric = common::shipped_fabric("thick_cotton");
+    let limits = explicit_step_limits(&fabric, 0.01, true, true, StretchModel::Constraint);
+    (limits[0].max_step, limits[0].effect)
+}
+
+fn drape(sets: &[String]) -> Result<kes_cloth::run::RunOutcome, kes_cloth::scene::SceneError> {
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), sets)?;
+    Ok(simulate(&scene, &RunOptions::default()))
+}
+
+#[test]
+fn the_guard_names_the_effect_and_the_step_it_needs() {
+    let (limit, effect) = cotton_limit();
+    assert_eq!(effect, "trellising", "thick cotton's tightest explicit limit");
+    // Trellising: k = 4G with G = 3 gf/cm/deg = 168.5 N/m/rad, m = 35 mg: ω = 4.39e3 1/s.
+    assert!((limit - 3.64e-4).abs() < 0.02e-4, "limit {limit} s");
+    let Err(err) = drape(&[format!("integration.dt_s={}", 2.0 * limit)]) else {
+        panic!("twice the bound must be refused");
+    };
+    let text = err.to_string();
+    for needle in [
+        "integration.dt_s",
+        "trellising",
+        "Implicit",
+        "step_guard",
+        "docs/model.md",
+    ] {
+        assert!(text.contains(needle), "`{needle}` missing from: {text}");
+    }
+    // The shipped step passes the guard.
+    assert!(0.00025 < limit);
+}
+
+#[test]
+fn just_inside_the_bound_is_stable_and_far_outside_it_diverges() {
+    let (limit, _) = cotton_limit();
+    let inside = drape(&[
+        format!("integration.dt_s={}", 0.95 * limit),
+        "integration.max_time_s=3".into(),
+    ])
+    .unwrap()
+    .metrics;
+    assert!(inside.failure.is_none(), "{:?}", inside.failure);
+    assert!(inside.settled, "just inside the bound, the drape did not settle");
+    let outside = drape(&[
+        format!("integration.dt_s={}", 3.0 * limit),
+        "integration.max_time_s=1".into(),
+        "integration.step_guard=false".into(),
+    ])
+    .unwrap()
+    .metrics;
+    assert!(
+        outside.failure.is_some(),
+        "3× the bound should diverge without the guard"
+    );
+}
