@@ -42,15 +42,10 @@ fn thick_cotton_drapes_with_fewer_folds_than_thin_wool() {
     check_cotton_against_wool(&repeats("drape_cotton"), &repeats("drape_wool"));
 }
 
-/// On the Cusick tester (30 cm on 18 cm) cotton keeps the higher mean DC, inside the same
-/// plausibility ranges. (Its node count is not yet below wool's there: the cotton skirt ripples
-/// at the scale of the mesh instead of forming a few large folds; see the issue note.)
+/// The same claim on the Cusick tester (30 cm on 18 cm, BS 5058): fewer folds, higher DC.
 #[test]
-fn cotton_keeps_the_higher_drape_coefficient_on_the_cusick_tester() {
-    let (cotton, wool) = (repeats("cusick_cotton"), repeats("cusick_wool"));
-    let (cdc, wdc) = (cotton.dc_mean.unwrap(), wool.dc_mean.unwrap());
-    assert!(cdc > wdc, "mean DC: cotton {cdc:.3}, wool {wdc:.3}");
-    assert!(cdc >= 0.6 && wdc <= 0.55, "cotton {cdc:.3}, wool {wdc:.3}");
+fn thick_cotton_drapes_with_fewer_folds_than_thin_wool_on_the_cusick_tester() {
+    check_cotton_against_wool(&repeats("cusick_cotton"), &repeats("cusick_wool"));
 }
 
 /// Across all shipped fabrics on the seed's drapemeter (seed 0), DC rank follows the warp
