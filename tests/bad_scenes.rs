@@ -111,3 +111,14 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
     let e = Scene::load(&path, &["seed=abc".into()]).unwrap_err().to_string();
     assert!(e.contains("--set seed=abc"), "{e}");
 }
+
+/// A pin that misses the cloth is refused, naming the pin and the distance.
+#[test]
+fn a_pin_away_from_the_cloth_is_rejected() {
+    let path = common::crate_path("scenes/hard/hanging_damped.ron");
+    let e = Scene::load(&path, &["cloth.pins_m=[[0.5,0.5,0.0]]".into()])
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(e.contains("cloth.pins_m[0]") && e.contains("within one spacing"), "{e}");
+}

@@ -96,7 +96,52 @@ impl Scene {
             value,
             reason,
         })?;
-        Ok(Self { path, spec, fabric })
+        let scene = Self { path, spec, fabric };
+        scene
+            .check_pins()
+            .map_err(|(field, value, reason)| SceneError::Invalid {
+                path: scene.path.clone(),
+                field,
+                value,
+                reason,
+            })?;
+        Ok(scene)
+    }
+
+    /// For each of `cloth.pins_m`, the index of the nearest node of the flat layout.
+    pub fn pinned_nodes(&self) -> Vec<usize> {
+        let (_, flat) = spawn::cloth_grid(self);
+        self.spec
+            .cloth
+            .pins_m
+            .iter()
+            .map(|p| {
+                let p = glam::DVec3::from_array(*p);
+                (0..flat.len())
+                    .min_by(|&a, &b| flat[a].distance(p).total_cmp(&flat[b].distance(p)))
+                    .unwrap_or(0)
+            })
+            .collect()
+    }
+
+    fn check_pins(&self) -> Result<(), (String, String, String)> {
+        let (_, flat) = spawn::cloth_grid(self);
+        let sigma = self.spec.cloth.spacing_m;
+        for (k, (p, node)) in self.spec.cloth.pins_m.iter().zip(self.pinned_nodes()).enumerate() {
+            let d = flat
+                .get(node)
+                .map_or(f64::INFINITY, |n| n.distance(glam::DVec3::from_array(*p)));
+            if d > sigma {
+                return Err((
+                    format!("cloth.pins_m[{k}]"),
+                    format!("{p:?}"),
+                    format!(
+                        "must lie within one spacing ({sigma} m) of a node of the flat cloth; the nearest is {d:.4} m away"
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Node contact radius (m): the scene's value or half the spacing.

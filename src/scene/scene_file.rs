@@ -67,6 +67,11 @@ pub struct ClothSpec {
     /// symmetry of a perfectly flat start so repeats can differ, like laboratory repeats.
     #[serde(default)]
     pub perturbation_m: f64,
+    /// Points (m) at which the cloth is pinned to the world: the node nearest each point in the
+    /// flat layout is held there by a spherical joint to a fixed body (default none). Each point
+    /// must lie within one spacing of a node.
+    #[serde(default)]
+    pub pins_m: Vec<[f64; 3]>,
     /// Contact radius of each node (m; default half the spacing). Node centres rest on the true
     /// collider surfaces: colliders are shrunk by this radius (see `docs/rapier.md`).
     #[serde(default)]

@@ -4,7 +4,7 @@
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
-use rapier3d::prelude::PhysicsWorld;
+use rapier3d::prelude::{PhysicsWorld, RigidBodyBuilder};
 
 use super::{ClothShape, ColliderShape, IntegrationSpec, IntegratorSpec, Scene};
 use crate::bodies::{WorldShape, add_world_collider, configure_world};
@@ -99,7 +99,13 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         let mu = if spec.effects.friction { col.friction } else { 0.0 };
         add_world_collider(&mut physics, shape, col.centre_m, mu, radius);
     }
-    let parts = cloth_builder(scene).build_parts(&mut physics);
+    let mut builder = cloth_builder(scene);
+    let (topology, flat) = builder.grid();
+    for node in scene.pinned_nodes() {
+        let anchor = physics.insert_body(RigidBodyBuilder::fixed().translation(flat[node].as_vec3()));
+        builder = builder.pin(topology.grid_coords[node], anchor, glam::Vec3::ZERO);
+    }
+    let parts = builder.build_parts(&mut physics);
     let mut world = World::new();
     let entity = spawn_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);
