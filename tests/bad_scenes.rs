@@ -120,5 +120,8 @@ fn a_pin_away_from_the_cloth_is_rejected() {
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();
-    assert!(e.contains("cloth.pins_m[0]") && e.contains("within one spacing"), "{e}");
+    assert!(
+        e.contains("cloth.pins_m[0]") && e.contains("within one spacing"),
+        "{e}"
+    );
 }
