@@ -13,9 +13,9 @@ use kes_cloth::implicit::{ImplicitSettings, ImplicitSolver};
 
 mod common;
 
-fn total_energy(gens: &[&dyn ForceGenerator], geo: &ClothGeometry, v: &[DVec3], m: f64) -> f64 {
+fn total_energy(gens: &[Option<&dyn ForceGenerator>], geo: &ClothGeometry, v: &[DVec3], m: f64) -> f64 {
     let kinetic: f64 = v.iter().map(|v| 0.5 * m * v.length_squared()).sum();
-    kinetic + gens.iter().map(|g| g.energy(geo)).sum::<f64>()
+    kinetic + gens.iter().flatten().map(|g| g.energy(geo)).sum::<f64>()
 }
 
 #[test]
@@ -29,7 +29,8 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
     let trellising = Trellising::new(topo.clone(), &fabric);
     let tensile = KesTensile::new(topo.clone(), &fabric);
     let damping = LinkDamping::new(topo.clone(), 150.0, m);
-    let gens: Vec<&dyn ForceGenerator> = vec![&bending, &trellising, &tensile, &damping];
+    let gens: [Option<&dyn ForceGenerator>; 4] =
+        [Some(&bending), Some(&trellising), Some(&tensile), Some(&damping)];
     for (name, start) in configs
         .iter()
         .filter(|(n, _)| n.starts_with("sheared") || n == "bent")
@@ -45,7 +46,7 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
             let initial = energy;
             for step in 0..200 {
                 buffer.clear();
-                for g in &gens {
+                for g in gens.iter().flatten() {
                     g.add_forces(&geo, &v, &mut buffer);
                 }
                 buffer.resolve(&topo);

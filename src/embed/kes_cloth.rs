@@ -35,8 +35,7 @@ impl KesCloth {
             p.damping.as_ref().map(|g| g as &dyn ForceGenerator),
             p.air_drag.as_ref().map(|g| g as &dyn ForceGenerator),
         ];
-        let generators: Vec<&dyn ForceGenerator> = generators.into_iter().flatten().collect();
-        for g in &generators {
+        for g in generators.iter().flatten() {
             g.add_forces(&state.geometry, &state.velocities, &mut state.forces);
         }
         state.forces.resolve(&state.topology);

@@ -86,10 +86,11 @@ impl ImplicitSolver {
 
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
     /// M·Δv/h, the force under which Rapier's step of `h` (s) adds the backward-Euler velocity
-    /// change Δv (m/s) of our forces. `generators` are the cloth's effects.
+    /// change Δv (m/s) of our forces. `generators` are the cloth's effects (`None` for an effect it
+    /// does not carry, so callers need not allocate a list per step).
     pub fn solve(
         &mut self,
-        generators: &[&dyn ForceGenerator],
+        generators: &[Option<&dyn ForceGenerator>],
         geometry: &ClothGeometry,
         velocities: &[DVec3],
         forces: &mut [DVec3],
@@ -100,7 +101,7 @@ impl ImplicitSolver {
         // b = h·F − h²·H·v.
         pert.set(topo, velocities);
         product.clear();
-        for g in generators {
+        for g in generators.iter().flatten() {
             g.add_stiffness_product(geometry, pert, h * h, true, product);
         }
         let hv = product.resolve(topo);
@@ -155,7 +156,7 @@ impl ImplicitSolver {
 
 /// out = (M + h·C + h²·H)·x for nodes of mass `m` (kg) and step `h` (s).
 fn apply_system(
-    generators: &[&dyn ForceGenerator],
+    generators: &[Option<&dyn ForceGenerator>],
     geometry: &ClothGeometry,
     (pert, product): (&mut Perturbation, &mut ForceBuffer),
     (m, h): (f64, f64),
@@ -165,7 +166,7 @@ fn apply_system(
     let topo = geometry.topology();
     pert.set(topo, x);
     product.clear();
-    for g in generators {
+    for g in generators.iter().flatten() {
         g.add_stiffness_product(geometry, pert, h * h, true, product);
         g.add_damping_product(pert, h, product);
     }

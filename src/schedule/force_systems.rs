@@ -83,7 +83,7 @@ pub fn solve_implicit(
             .0
             .read_supports(&physics.0, crate::implicit::SUPPORT_GAP, &mut implicit.0.supports);
         let state = &mut *state;
-        let generators: Vec<&dyn ForceGenerator> = [
+        let generators = [
             b.map(|e| &e.0 as &dyn ForceGenerator),
             t.map(|e| &e.0 as &dyn ForceGenerator),
             ss.map(|e| &e.0 as &dyn ForceGenerator),
@@ -91,10 +91,7 @@ pub fn solve_implicit(
             c.map(|e| &e.0 as &dyn ForceGenerator),
             d.map(|e| &e.0 as &dyn ForceGenerator),
             a.map(|e| &e.0 as &dyn ForceGenerator),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
+        ];
         let forces = &mut state.forces.particle;
         implicit
             .0
