@@ -61,6 +61,7 @@ pub mod bodies;
 pub mod embed;
 pub mod forces;
 pub mod implicit;
+pub mod kes_lab;
 pub mod material;
 pub mod measure;
 pub mod output;

@@ -9,8 +9,8 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 
 use crate::forces::{
-    AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, LinkCompression, LinkDamping,
-    SeedSeparation, Trellising,
+    AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile, LinkCompression,
+    LinkDamping, SeedSeparation, Trellising,
 };
 use crate::measure::{DrapeMeasurement, Motion, Progress, SettleState, measure_drape, project};
 use crate::output::{
@@ -267,6 +267,7 @@ fn strongest_effect(world: &World, cloth: Entity, node: usize) -> Option<&'stati
         force::<LinkCompression>(world, cloth, state, node),
         force::<LinkDamping>(world, cloth, state, node),
         force::<AirDrag>(world, cloth, state, node),
+        force::<Hysteresis>(world, cloth, state, node),
     ]
     .into_iter()
     .flatten()
@@ -298,6 +299,7 @@ fn diagnose_forces(world: &World, cloth: Entity) -> Option<&'static str> {
         .or_else(|| check::<LinkCompression>(world, cloth, state))
         .or_else(|| check::<LinkDamping>(world, cloth, state))
         .or_else(|| check::<AirDrag>(world, cloth, state))
+        .or_else(|| check::<Hysteresis>(world, cloth, state))
 }
 
 /// Writes `metrics.json` and, for a run that did not fail, `final.obj` and `top.png`.

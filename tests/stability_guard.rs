@@ -11,7 +11,7 @@ mod common;
 
 fn cotton_limit() -> (f64, &'static str) {
     let fabric = common::shipped_fabric("thick_cotton");
-    let limits = explicit_step_limits(&fabric, 0.01, true, true, StretchModel::Constraint);
+    let limits = explicit_step_limits(&fabric, 0.01, true, true, false, StretchModel::Constraint);
     (limits[0].max_step, limits[0].effect)
 }
 

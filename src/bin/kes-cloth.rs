@@ -19,7 +19,7 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth study scenes/drape_cotton.ron --vary integration.dt_s=0.0005,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_cotton.ron --vary integration.dt_s=0.0005,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -84,6 +84,35 @@ enum Command {
         #[arg(long, value_name = "N")]
         threads: Option<usize>,
     },
+    /// The virtual KES laboratory: simulate a KES-FB2 bending test and a KES-FB1 shear test on a
+    /// strip of a fabric, with the same force generators as every scene, and read B, 2HB, G, 2HG
+    /// and 2HG5 as the instruments would, beside the fabric file's values (KES units).
+    ///
+    /// Bending sweeps the curvature 0 → +2.5 → −2.5 → +2.5 cm⁻¹ (B: mean branch slope over
+    /// 0.5–1.5 cm⁻¹; 2HB: loop width at ±1 cm⁻¹). Shear sweeps the angle 0 → +8° → −8° → +8°
+    /// (G: mean branch slope over 0.5°–5°; 2HG, 2HG5: loop widths at ±0.5°, ±5°). Both read the
+    /// closed loop after the first loading. Writes the
+    /// loops into DIR (default `out/kes-<fabric file name>/`) as `kes_bending.png` and
+    /// `kes_shear.png`.
+    ///
+    /// Example: kes-cloth kes assets/fabrics/thick_cotton.ron --spacing-m 0.005
+    Kes {
+        /// The fabric file (RON, KES units).
+        fabric: PathBuf,
+        /// Node spacing of the simulated strips (m).
+        #[arg(long, value_name = "METRES", default_value_t = 0.005)]
+        spacing_m: f64,
+        /// Leave the hysteresis effect off: the elastic mean curves alone (no loop).
+        #[arg(long)]
+        no_hysteresis: bool,
+        /// Print one JSON object (`{"B_warp": {"file": v, "recovered": v}, ...}`, KES units)
+        /// instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Output folder for the loop plots [default: out/kes-<fabric file name>].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Validate a scene and print its resolved parameters in SI, without running it.
     Check {
         /// The scene file (RON).
@@ -136,6 +165,13 @@ fn main() -> ExitCode {
             out,
             threads,
         } => run_study(&scene, vary, reference, &set, out, threads),
+        Command::Kes {
+            fabric,
+            spacing_m,
+            no_hysteresis,
+            json,
+            out,
+        } => run_kes_lab(&fabric, spacing_m, !no_hysteresis, json, out),
         Command::Check { scene, set } => match Scene::load(&scene, &set) {
             Ok(s) => {
                 println!("{}", kes_cloth::scene::describe(&s));
@@ -236,6 +272,43 @@ fn run_study(
         Err(e) => return fail(&e),
     }
     println!("wrote {}", dir.display());
+    ExitCode::SUCCESS
+}
+
+fn run_kes_lab(
+    path: &std::path::Path,
+    spacing: f64,
+    hysteresis: bool,
+    json: bool,
+    out: Option<PathBuf>,
+) -> ExitCode {
+    let fabric = match kes_cloth::material::Fabric::load(path) {
+        Ok(f) => f,
+        Err(e) => return fail(&e),
+    };
+    // The strips must resolve 2.5 cm⁻¹ on the circle branch of the curvature and stay a strip.
+    if !(spacing.is_finite() && (0.0005..=0.02).contains(&spacing)) {
+        return fail(&format!(
+            "--spacing-m = {spacing}: must lie in [0.0005, 0.02] m (the strip's node spacing)"
+        ));
+    }
+    let report = kes_cloth::kes_lab::run_kes_lab(&fabric, spacing, hysteresis);
+    let stem = path
+        .file_stem()
+        .map_or("fabric".into(), |s| s.to_string_lossy().into_owned());
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("kes-{stem}")));
+    if let Err(e) = std::fs::create_dir_all(&dir) {
+        return fail(&format!("{}: cannot create: {e}", dir.display()));
+    }
+    if let Err(e) = kes_cloth::kes_lab::write_loop_plots(&report, &dir) {
+        return fail(&e);
+    }
+    if json {
+        println!("{}", report.json());
+    } else {
+        print!("{}", report.table());
+        println!("wrote {}/kes_bending.png, kes_shear.png", dir.display());
+    }
     ExitCode::SUCCESS
 }
 

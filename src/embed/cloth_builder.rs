@@ -10,7 +10,8 @@ use rapier3d::prelude::*;
 
 use crate::bodies::{ClothBodies, NodeOptions};
 use crate::forces::{
-    AirDrag, Bending, ClothTopology, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
+    AirDrag, Bending, ClothTopology, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation,
+    Trellising,
 };
 use crate::implicit::{ImplicitSolver, Integrator};
 use crate::material::Fabric;
@@ -64,13 +65,15 @@ pub struct ClothParts {
     pub damping: Option<LinkDamping>,
     /// Air drag, if asked for.
     pub air_drag: Option<AirDrag>,
+    /// Bending and shear hysteresis (KES 2HB, 2HG, 2HG5), if asked for.
+    pub hysteresis: Option<Hysteresis>,
     /// The backward-Euler solve, for [`Integrator::Implicit`].
     pub implicit: Option<ImplicitSolver>,
 }
 
 /// Builds a KES cloth into a Rapier world. Defaults: a 0.3 m square, 1 cm spacing, centred at
 /// the origin, warp along +x, stretch as a constraint, bending and trellising on, link damping
-/// 150/s, contact with the world on, no self-collision, gravity on, no pins.
+/// 150/s, no hysteresis, contact with the world on, no self-collision, gravity on, no pins.
 #[derive(Clone, Debug)]
 pub struct ClothBuilder {
     fabric: Fabric,
@@ -86,6 +89,7 @@ pub struct ClothBuilder {
     trellising: bool,
     damping: Option<f64>,
     air_drag: Option<f64>,
+    hysteresis: bool,
     contact: bool,
     self_collision: bool,
     gravity: bool,
@@ -110,6 +114,7 @@ impl ClothBuilder {
             trellising: true,
             damping: Some(150.0),
             air_drag: None,
+            hysteresis: false,
             contact: true,
             self_collision: false,
             gravity: true,
@@ -182,6 +187,13 @@ impl ClothBuilder {
         self
     }
 
+    /// Hysteresis of bending and shear from the fabric's 2HB, 2HG and 2HG5 (default off: the
+    /// elastic mean curves alone). Acts on whichever of bending and trellising is on.
+    pub fn hysteresis(mut self, on: bool) -> Self {
+        self.hysteresis = on;
+        self
+    }
+
     /// Contact with the world's colliders, self-collision, gravity.
     pub fn collisions_and_gravity(mut self, contact: bool, self_collision: bool, gravity: bool) -> Self {
         self.contact = contact;
@@ -196,7 +208,6 @@ impl ClothBuilder {
         self
     }
 
-    /// The fabric.
     /// How our forces are integrated (default [`Integrator::Explicit`]).
     pub fn integrator(mut self, integrator: Integrator) -> Self {
         self.integrator = integrator;
@@ -302,6 +313,8 @@ impl ClothBuilder {
                 .damping
                 .map(|rate| LinkDamping::new(t.clone(), rate, node_mass)),
             air_drag: self.air_drag.map(|c| AirDrag::new(c, sigma)),
+            hysteresis: (self.hysteresis && (self.bending || self.trellising))
+                .then(|| Hysteresis::new(t.clone(), fabric, self.bending, self.trellising)),
             implicit: match self.integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => Some(ImplicitSolver::new(t.clone(), node_mass, settings)),

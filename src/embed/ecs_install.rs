@@ -25,6 +25,7 @@ pub fn spawn_cloth(world: &mut World, parts: ClothParts) -> Entity {
     insert_effect(&mut e, parts.compression);
     insert_effect(&mut e, parts.damping);
     insert_effect(&mut e, parts.air_drag);
+    insert_effect(&mut e, parts.hysteresis);
     if let Some(solver) = parts.implicit {
         e.insert(Implicit(solver));
     }

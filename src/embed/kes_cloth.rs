@@ -26,6 +26,9 @@ impl KesCloth {
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
         state.geometry.update(&state.positions);
         state.forces.clear();
+        if let Some(h) = &mut p.hysteresis {
+            h.advance_state(&state.geometry);
+        }
         let generators = [
             p.bending.as_ref().map(|g| g as &dyn ForceGenerator),
             p.trellising.as_ref().map(|g| g as &dyn ForceGenerator),
@@ -34,6 +37,7 @@ impl KesCloth {
             p.compression.as_ref().map(|g| g as &dyn ForceGenerator),
             p.damping.as_ref().map(|g| g as &dyn ForceGenerator),
             p.air_drag.as_ref().map(|g| g as &dyn ForceGenerator),
+            p.hysteresis.as_ref().map(|g| g as &dyn ForceGenerator),
         ];
         for g in generators.iter().flatten() {
             g.add_forces(&state.geometry, &state.velocities, &mut state.forces);

@@ -86,6 +86,39 @@ pub(crate) fn angle_hessian_product(
     }
 }
 
+impl AngleClamp {
+    /// [`Self::Majorant`] for the implicit solve's `definite` matrix, else [`Self::Exact`].
+    pub(crate) fn for_definite(definite: bool) -> Self {
+        if definite { Self::Majorant } else { Self::Exact }
+    }
+}
+
+/// Adds `scale`·H·δ of one trellis corner into `out`: the corner's links `lu`, `lw` with the
+/// signs `su`, `sw` that point them away from the crossing, f' = dE/dγ and f'' (J).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn add_corner_product(
+    geometry: &ClothGeometry,
+    dx: &Perturbation,
+    ((lu, su), (lw, sw)): ((usize, f64), (usize, f64)),
+    tangent: (f64, f64),
+    scale: f64,
+    clamp: AngleClamp,
+    out: &mut ForceBuffer,
+) {
+    let (unit, inv, d) = (&geometry.unit, &geometry.inv_length, &dx.link);
+    let (u, w) = (su * unit[lu], sw * unit[lw]);
+    let (hu, hw) = angle_hessian_product(
+        (u, w),
+        (inv[lu], inv[lw]),
+        tangent,
+        (su * d[lu], sw * d[lw]),
+        clamp,
+    );
+    out.link[lu] += (scale * su) * hu;
+    out.link[lw] += (scale * sw) * hw;
+}
+
 /// Adds `scale`·H·δ for a spring on every link, E_l(r): `tangent(l)` gives E' = dE/dr (N) and
 /// E'' (N/m) of link `l`. Per link, H·δ = E''·(d̂·δ)·d̂ + (E'/r)·P·δ; `definite` clamps both
 /// coefficients at zero (a compressed spring's negative transverse stiffness is dropped).

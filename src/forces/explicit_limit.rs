@@ -9,6 +9,8 @@
 //! * bending: the out-of-plane checkerboard mode bends every warp and weft spring by 4u/σ, so
 //!   k = 16·(B_warp + B_weft)/σ²;
 //! * trellising: the in-plane checkerboard shear mode, k = 4·G (G in N/m per radian);
+//! * with hysteresis, a sticking friction element adds its stick stiffness k_f to B (bending) and
+//!   to G (trellising), [`crate::material::HysteresisLaw`];
 //! * stretch by the KES law, k = 4·T'(EMT) = 4·n·T_m/EMT; by the seed's law, k = 4·(4·T_m/EMT);
 //!
 //! and ω = √(k/m). Symplectic Euler's own limit is ω·dt = 2, but near it the highest modes are
@@ -17,7 +19,7 @@
 //! (ω·dt = 1.8) and diverges at 1.37 ms. The limit used is therefore ω·dt ≤ [`MAX_OMEGA_DT`].
 //! The compression spring and link damping are sized from the step itself.
 
-use crate::material::{Fabric, Thread};
+use crate::material::{Fabric, HysteresisLaw, Thread};
 use crate::scene::StretchModel;
 
 /// Largest ω·dt allowed for an explicit force (dimensionless; symplectic Euler's bound is 2).
@@ -39,6 +41,7 @@ pub fn explicit_step_limits(
     spacing: f64,
     bending: bool,
     trellising: bool,
+    hysteresis: bool,
     stretch: StretchModel,
 ) -> Vec<StepLimit> {
     let mass = fabric.areal_density * spacing * spacing;
@@ -52,12 +55,24 @@ pub fn explicit_step_limits(
         // Up to K = 2/σ, a thread folded flat over one spacing.
         let b: f64 = threads
             .iter()
-            .map(|t| fabric.bending(*t).moment.max_slope(2.0 / spacing))
+            .map(|t| {
+                let friction = HysteresisLaw::bending(fabric.bending(*t));
+                fabric.bending(*t).moment.max_slope(2.0 / spacing)
+                    + if hysteresis { friction.stick_stiffness } else { 0.0 }
+            })
             .sum();
         limits.push(limit("bending", 16.0 * b / (spacing * spacing)));
     }
     if trellising {
-        limits.push(limit("trellising", 4.0 * fabric.shear.force.max_slope(1.0)));
+        let friction = if hysteresis {
+            HysteresisLaw::shear(&fabric.shear).stick_stiffness
+        } else {
+            0.0
+        };
+        limits.push(limit(
+            "trellising",
+            4.0 * (fabric.shear.force.max_slope(1.0) + friction),
+        ));
     }
     let tensile = |per_law: &dyn Fn(&crate::material::TensileLaw) -> f64| {
         threads

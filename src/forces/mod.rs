@@ -13,6 +13,7 @@
 //! | compression of links held by Rapier rope joints | [`link_compression`] | ½k(σ − r)², r < σ |
 //! | damping of relative motion along links | [`link_damping`] | dissipative |
 //! | linear air drag | [`air_drag`] | dissipative |
+//! | bending and shear hysteresis (KES 2HB, 2HG, 2HG5) | [`hysteresis`] | friction elements, dissipative |
 //!
 //! Each generator also gives the products of its energy Hessian and damping matrix with a
 //! perturbation, which the implicit integrator ([`crate::implicit`]) solves with.
@@ -24,6 +25,7 @@ mod cloth_topology;
 mod element_stiffness;
 mod explicit_limit;
 mod force_buffer;
+pub mod hysteresis;
 pub mod kes_tensile;
 pub mod link_compression;
 pub mod link_damping;
@@ -40,6 +42,7 @@ pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
 pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
+pub use hysteresis::Hysteresis;
 pub use kes_tensile::KesTensile;
 pub use link_compression::LinkCompression;
 pub use link_damping::LinkDamping;
@@ -76,4 +79,9 @@ pub trait ForceGenerator: Send + Sync {
     /// Adds `scale`·C·δv into `out`, C = −∂F/∂v the damping matrix (N·s/m), for the velocity
     /// change δv (m/s) in `dv`. Elastic effects add nothing (the default).
     fn add_damping_product(&self, _dv: &Perturbation, _scale: f64, _out: &mut ForceBuffer) {}
+
+    /// Moves the effect's internal state (friction slips) to the configuration `geometry`, once
+    /// per step before its forces are taken; forces then read that state without changing it.
+    /// Stateless effects do nothing (the default).
+    fn advance_state(&mut self, _geometry: &ClothGeometry) {}
 }

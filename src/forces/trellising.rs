@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::{AngleClamp, angle_hessian_product};
+use super::element_stiffness::{AngleClamp, add_corner_product};
 use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
 use crate::material::{ElasticCurve, Fabric};
 
@@ -133,26 +133,13 @@ impl ForceGenerator for Trellising {
     ) {
         let topo = &*self.topology;
         let q = 0.25 * topo.spacing * topo.spacing;
-        let clamp = if definite {
-            AngleClamp::Majorant
-        } else {
-            AngleClamp::Exact
-        };
-        let (unit, inv, d) = (&geometry.unit, &geometry.inv_length, &dx.link);
-        // One corner: U = su·d_lu, W = sw·d_lw; E = (σ²/4)·∫F, so f' = (σ²/4)·F, f'' = (σ²/4)·F'.
+        let clamp = AngleClamp::for_definite(definite);
+        let unit = &geometry.unit;
+        // One corner: E = (σ²/4)·∫F dγ, so f' = (σ²/4)·F, f'' = (σ²/4)·F'.
         let mut corner = |(lu, su): (usize, f64), (lw, sw): (usize, f64)| {
-            let (u, w) = (su * unit[lu], sw * unit[lw]);
-            let gamma = u.dot(w);
+            let gamma = (su * unit[lu]).dot(sw * unit[lw]);
             let tangent = (q * self.force.value(gamma), q * self.force.slope(gamma));
-            let (hu, hw) = angle_hessian_product(
-                (u, w),
-                (inv[lu], inv[lw]),
-                tangent,
-                (su * d[lu], sw * d[lw]),
-                clamp,
-            );
-            out.link[lu] += (scale * su) * hu;
-            out.link[lw] += (scale * sw) * hw;
+            add_corner_product(geometry, dx, ((lu, su), (lw, sw)), tangent, scale, clamp, out);
         };
         for &[up, wp, um, wm] in &topo.full_crossings {
             let (u1, w1) = ((up as usize, 1.0), (wp as usize, 1.0));

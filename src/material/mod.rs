@@ -5,10 +5,12 @@
 //! - [`KesFabric`]: the fabric file schema, in KES units.
 //! - [`Fabric`]: the validated fabric in SI.
 //! - [`ElasticCurve`], [`TensileLaw`]: the curves.
+//! - [`HysteresisLaw`]: the friction elements behind the KES loop widths 2HB, 2HG, 2HG5.
 
 mod elastic_curve;
 mod fabric;
 mod fabric_error;
+mod hysteresis_law;
 mod kes_fabric;
 pub mod kes_units;
 mod tensile_law;
@@ -16,6 +18,7 @@ mod tensile_law;
 pub use elastic_curve::{CurveSampleError, ElasticCurve};
 pub use fabric::{BendingLaw, Fabric, ShearLaw, TensileProperties, Thread};
 pub use fabric_error::{Allowed, FabricLoadError, InvalidFabric};
+pub use hysteresis_law::{BENDING_REVERSAL_SPAN, FrictionResponse, HysteresisLaw, SHEAR_REVERSAL_SPAN_DEG};
 pub use kes_fabric::{KesBending, KesCurves, KesFabric, KesLoop, KesShear, KesTensile, PerThread};
 pub use kes_units::{GRAM_FORCE, KesUnit, STANDARD_GRAVITY};
 pub use tensile_law::TensileLaw;

@@ -2,12 +2,14 @@
 
 mod mesh_obj;
 mod metrics;
+mod plot_font;
 mod top_view;
 
 use std::path::PathBuf;
 
 pub use mesh_obj::write_obj;
 pub use metrics::{EffectCost, FailureReport, Metrics};
+pub(crate) use plot_font::register_plot_font;
 pub use top_view::{TopViewOutline, write_top_view};
 
 /// Writing an output file failed.

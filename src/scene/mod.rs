@@ -166,6 +166,7 @@ fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (String,
         spec.cloth.spacing_m,
         fx.bending,
         fx.trellising,
+        fx.hysteresis,
         fx.stretch,
     );
     match limits.first() {

@@ -177,6 +177,10 @@ pub struct EffectsSpec {
     /// Aerodynamic drag against still air (default none).
     #[serde(default)]
     pub air_drag: Option<AirDragSpec>,
+    /// Hysteresis (internal friction) of bending and shear from the fabric's 2HB, 2HG and 2HG5
+    /// (default false: the elastic mean curves alone). Needs bending or trellising on.
+    #[serde(default)]
+    pub hysteresis: bool,
 }
 
 fn yes() -> bool {

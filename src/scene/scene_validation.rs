@@ -232,6 +232,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             "N·s/m³",
         )?;
     }
+    if s.effects.hysteresis && !s.effects.bending && !s.effects.trellising {
+        return Err(violation(
+            "effects.hysteresis",
+            true,
+            "needs `bending: true` or `trellising: true`: hysteresis is the friction of those effects",
+        ));
+    }
 
     whole("output.image_size_px", s.output.image_size_px as usize, 64, 8192)?;
     Ok(())

@@ -37,6 +37,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .bending_and_trellising(fx.bending, fx.trellising)
         .damping(fx.damping.map(|d| d.rate_per_s))
         .air_drag(fx.air_drag.map(|a| a.coefficient_n_s_per_m3))
+        .hysteresis(fx.hysteresis)
         .collisions_and_gravity(fx.contact, fx.self_collision, fx.gravity)
         .integrator(integrator(&scene.spec.integration))
 }

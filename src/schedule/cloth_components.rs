@@ -78,7 +78,7 @@ pub struct EffectLedger {
 
 /// Every effect kes-cloth can run as a system, by name; each appears in `metrics.json`, with 0
 /// calls when the scene did not ask for it.
-pub const EFFECT_NAMES: [&str; 9] = [
+pub const EFFECT_NAMES: [&str; 10] = [
     "bending",
     "trellising",
     "stretch_seed",
@@ -86,6 +86,7 @@ pub const EFFECT_NAMES: [&str; 9] = [
     "compression",
     "damping",
     "air_drag",
+    "hysteresis",
     "implicit_solve",
     "rapier_step",
 ];

@@ -8,7 +8,8 @@ use super::cloth_components::{
     Clock, ClothNodes, ClothState, Effect, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
 };
 use crate::forces::{
-    AirDrag, Bending, ForceGenerator, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
+    AirDrag, Bending, ForceGenerator, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation,
+    Trellising,
 };
 
 /// Phase 1, prepare: update link geometry from the node state (read from Rapier at the end of
@@ -18,6 +19,19 @@ pub fn prepare_forces(mut cloths: Query<&mut ClothState>) {
         let state = &mut *state;
         state.geometry.update(&state.positions);
         state.forces.clear();
+    }
+}
+
+/// End of phase 1, for effects with internal state (hysteresis): move that state to the
+/// configuration the step starts from, before any force is taken.
+pub fn advance_effect_state<G: ForceGenerator + 'static>(
+    mut cloths: Query<(&ClothState, &mut Effect<G>)>,
+    mut ledger: ResMut<EffectLedger>,
+) {
+    for (state, mut effect) in &mut cloths {
+        let start = Instant::now();
+        effect.0.advance_state(&state.geometry);
+        ledger.record(effect.0.effect(), start.elapsed().as_secs_f64());
     }
 }
 
@@ -63,6 +77,7 @@ type EffectComponents = (
     Option<&'static Effect<LinkCompression>>,
     Option<&'static Effect<LinkDamping>>,
     Option<&'static Effect<AirDrag>>,
+    Option<&'static Effect<Hysteresis>>,
 );
 
 /// Phase 2 (implicit cloths only): replace the summed forces by the backward-Euler force
@@ -77,7 +92,7 @@ pub fn solve_implicit(
     if failure.0.is_some() {
         return;
     }
-    for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a)) in &mut cloths {
+    for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a, h)) in &mut cloths {
         let start = Instant::now();
         nodes
             .0
@@ -91,6 +106,7 @@ pub fn solve_implicit(
             c.map(|e| &e.0 as &dyn ForceGenerator),
             d.map(|e| &e.0 as &dyn ForceGenerator),
             a.map(|e| &e.0 as &dyn ForceGenerator),
+            h.map(|e| &e.0 as &dyn ForceGenerator),
         ];
         let forces = &mut state.forces.particle;
         implicit

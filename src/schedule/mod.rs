@@ -3,9 +3,9 @@
 //! One run of the schedule is one time step, in five chained phases:
 //!
 //! 1. [`Phase::Prepare`]: update the link geometry from the node state, clear the force
-//!    buffers.
+//!    buffers, then move effect state (hysteresis slips) to that geometry.
 //! 2. [`Phase::Forces`]: one system per KES effect (bending, trellising, stretch, damping, air
-//!    drag), each behind a run condition: it runs only if the scene's cloth carries that
+//!    drag, hysteresis), each behind a run condition: it runs only if the scene's cloth carries that
 //!    [`Effect`] component. Then the link forces are summed onto nodes; for a cloth with the
 //!    [`Implicit`] component they are replaced by the backward-Euler force ([`crate::implicit`]);
 //!    then they are handed to Rapier.
@@ -27,9 +27,13 @@ pub use cloth_components::{
     Clock, ClothNodes, ClothState, EFFECT_NAMES, Effect, EffectLedger, Failure, Implicit, Physics,
     SimulationFailure,
 };
-pub use force_systems::{apply_effect, prepare_forces, push_forces, solve_implicit, step_rapier, sum_forces};
+pub use force_systems::{
+    advance_effect_state, apply_effect, prepare_forces, push_forces, solve_implicit, step_rapier, sum_forces,
+};
 
-use crate::forces::{AirDrag, Bending, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising};
+use crate::forces::{
+    AirDrag, Bending, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
+};
 use crate::measure::{Progress, measure_motion, report_progress, update_settle};
 
 /// The phases of one step, run in this order.
@@ -72,7 +76,14 @@ pub fn add_step_systems(schedule: &mut Schedule) {
         )
             .chain(),
     );
-    schedule.add_systems(prepare_forces.in_set(Phase::Prepare));
+    schedule.add_systems(
+        (
+            prepare_forces,
+            advance_effect_state::<Hysteresis>.run_if(any_with_component::<Effect<Hysteresis>>),
+        )
+            .chain()
+            .in_set(Phase::Prepare),
+    );
     schedule.add_systems(
         (
             apply_effect::<Bending>.run_if(any_with_component::<Effect<Bending>>),
@@ -82,6 +93,7 @@ pub fn add_step_systems(schedule: &mut Schedule) {
             apply_effect::<LinkCompression>.run_if(any_with_component::<Effect<LinkCompression>>),
             apply_effect::<LinkDamping>.run_if(any_with_component::<Effect<LinkDamping>>),
             apply_effect::<AirDrag>.run_if(any_with_component::<Effect<AirDrag>>),
+            apply_effect::<Hysteresis>.run_if(any_with_component::<Effect<Hysteresis>>),
             sum_forces,
             solve_implicit.run_if(any_with_component::<Implicit>),
             push_forces,

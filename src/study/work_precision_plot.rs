@@ -1,14 +1,10 @@
 //! The work–precision diagram: error against wall time, log–log, one curve per varied key.
 
 use std::path::Path;
-use std::sync::Once;
 
 use plotters::prelude::*;
 
 use super::{Study, StudyRow};
-
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-static REGISTER_FONT: Once = Once::new();
 
 /// Smallest error drawn (errors below it, e.g. a run identical to the reference, sit on it).
 const ERROR_FLOOR: f64 = 1e-5;
@@ -54,9 +50,7 @@ fn curve(study: &Study, k: usize) -> Vec<&StudyRow> {
 }
 
 fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
-    REGISTER_FONT.call_once(|| {
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
+    crate::output::register_plot_font();
     let root = BitMapBackend::new(path, (1400, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(700);

@@ -1,0 +1,352 @@
+//! Hysteresis: internal friction of bending and shear, in parallel with their elastic curves.
+//!
+//! Every bending spring and every trellis corner carries a friction element
+//! ([`HysteresisLaw`]): the spring's moment (or the corner's shear force per length) becomes the
+//! elastic mean value plus a friction value y_f that opposes the motion and reaches ±2HB/2 (or
+//! ±2HG/2, ±2HG5/2) once sliding, so a KES cycle traces the measured loop. The elements act on the
+//! same measures as [`super::Bending`] (curvature K of three crossings) and [`super::Trellising`]
+//! (γ = cos ψ of each corner), with the same area weights σ² and σ²/4.
+//!
+//! The slips are the effect's state: [`ForceGenerator::advance_state`] moves them once per step
+//! to the configuration the step starts from (return mapping) and adds what the sliders
+//! dissipated to [`Hysteresis::dissipated`]. Forces read the slips without changing them, so a
+//! force evaluation has no side effect. Not conservative: [`ForceGenerator::energy`] is the
+//! energy held in the elements' springs, and the rest of the work done on them is dissipated.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::bending::curvature_of_cos;
+use super::element_stiffness::{AngleClamp, add_corner_product, angle_hessian_product};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
+use crate::material::{Fabric, FrictionResponse, HysteresisLaw, Thread};
+
+/// A trellis corner as its two links, each with the sign that points it away from the crossing.
+type Corner = [(u32, f64); 2];
+
+/// A bending spring's signed curvature and what its forces need.
+struct SpringShape {
+    /// Signed curvature K (m⁻¹): positive when the thread curves towards `normal`; 0 when
+    /// straight or without a normal.
+    curvature: f64,
+    /// dK/dc (m⁻¹) with c = cos θ, signed like K; 0 where K is 0.
+    slope: f64,
+    /// Unit vectors from the middle particle to the first and to the last.
+    u: DVec3,
+    w: DVec3,
+    /// The cloth's unit normal at the middle particle (zero without a crossing thread).
+    normal: DVec3,
+}
+
+/// Marks a missing link in [`Hysteresis`]'s crossing-thread table.
+const NO_LINK: u32 = u32::MAX;
+
+/// Friction elements on the bending springs and trellis corners of one cloth.
+#[derive(Clone, Debug)]
+pub struct Hysteresis {
+    topology: Arc<ClothTopology>,
+    /// Bending friction along [warp, weft]; `None` when bending is off.
+    bending: Option<[HysteresisLaw; 2]>,
+    /// Shear friction; `None` when trellising is off.
+    shear: Option<HysteresisLaw>,
+    /// Every trellis corner, interior crossings first (four each), then the edge corners.
+    corners: Vec<Corner>,
+    /// For each bending spring, the crossing thread's links at its middle particle (leaving,
+    /// arriving; [`NO_LINK`] where absent), whose directions give the cloth's normal there.
+    bend_cross: Vec<[u32; 2]>,
+    /// Slip of each bending spring's element (m⁻¹).
+    bend_slip: Vec<f64>,
+    /// Slip of each corner's element (in γ, dimensionless).
+    corner_slip: Vec<f64>,
+    /// Energy the sliders have dissipated since the cloth was built (J).
+    dissipated: f64,
+}
+
+impl Hysteresis {
+    /// Friction for `topology` from the fabric's loop widths, on bending springs if `bending` and
+    /// on trellis corners if `trellising`. All elements start unslipped at the initial shape.
+    pub fn new(topology: Arc<ClothTopology>, fabric: &Fabric, bending: bool, trellising: bool) -> Self {
+        let mut corners = Vec::with_capacity(4 * topology.full_crossings.len() + topology.corner_links.len());
+        for &[up, wp, um, wm] in &topology.full_crossings {
+            let (u1, w1, u2, w2) = ((up, 1.0), (wp, 1.0), (um, -1.0), (wm, -1.0));
+            corners.extend([[u1, w1], [u2, w1], [u2, w2], [u1, w2]]);
+        }
+        for &[lu, lw] in &topology.corner_links {
+            corners.push([(lu.index() as u32, lu.sign()), (lw.index() as u32, lw.sign())]);
+        }
+        let law = |t| HysteresisLaw::bending(fabric.bending(t));
+        let bend_cross = crossing_links(&topology);
+        Self {
+            bend_cross,
+            bending: bending.then(|| [law(Thread::Warp), law(Thread::Weft)]),
+            shear: trellising.then(|| HysteresisLaw::shear(&fabric.shear)),
+            bend_slip: vec![f64::NAN; topology.bend_links.len()],
+            corner_slip: vec![f64::NAN; corners.len()],
+            corners,
+            topology,
+            dissipated: 0.0,
+        }
+    }
+
+    /// Energy dissipated by the sliders so far (J).
+    pub fn dissipated(&self) -> f64 {
+        self.dissipated
+    }
+
+    /// The friction laws along [warp, weft] for bending, if on.
+    pub fn bending_laws(&self) -> Option<&[HysteresisLaw; 2]> {
+        self.bending.as_ref()
+    }
+
+    /// The shear friction law, if on.
+    pub fn shear_law(&self) -> Option<&HysteresisLaw> {
+        self.shear.as_ref()
+    }
+
+    /// The signed curvature of bending spring `s` (see [`SpringShape`]).
+    #[inline(always)]
+    fn spring(&self, geometry: &ClothGeometry, s: usize) -> SpringShape {
+        let [l1, l2] = self.topology.bend_links[s];
+        let (u, w) = (-geometry.unit[l1 as usize], geometry.unit[l2 as usize]);
+        let [out, inn] = self.bend_cross[s];
+        let cross = [out, inn]
+            .iter()
+            .filter(|&&l| l != NO_LINK)
+            .map(|&l| geometry.unit[l as usize])
+            .sum::<DVec3>();
+        let normal = (w - u).cross(cross).normalize_or_zero();
+        let mut shape = SpringShape {
+            curvature: 0.0,
+            slope: 0.0,
+            u,
+            w,
+            normal,
+        };
+        let side = (u + w).dot(normal);
+        if side == 0.0 {
+            return shape;
+        }
+        let c = u.dot(w);
+        let sin = if c < std::f64::consts::FRAC_1_SQRT_2 {
+            0.0
+        } else {
+            u.cross(w).length()
+        };
+        let (k, dk_dc) = curvature_of_cos(c, sin, self.topology.spacing);
+        if k > 0.0 && dk_dc.is_finite() {
+            shape.curvature = side.signum() * k;
+            shape.slope = side.signum() * dk_dc;
+        }
+        shape
+    }
+
+    /// Adds the forces of bending element `s` carrying moment `m` (N·m/m) at `shape`.
+    #[inline(always)]
+    fn add_bend_forces(
+        &self,
+        geometry: &ClothGeometry,
+        s: usize,
+        shape: &SpringShape,
+        m: f64,
+        forces: &mut ForceBuffer,
+    ) {
+        if m == 0.0 {
+            return;
+        }
+        let [l1, l2] = self.topology.bend_links[s].map(|l| l as usize);
+        let (inv_u, inv_w) = (geometry.inv_length[l1], geometry.inv_length[l2]);
+        let (de_da, de_dc) = if shape.slope != 0.0 {
+            let de_dcos = self.bend_de_dc(m, shape.slope);
+            let (_, grad_a, grad_c) = cos_angle_gradients(shape.u, shape.w, inv_u, inv_w);
+            (de_dcos * grad_a, de_dcos * grad_c)
+        } else {
+            // A straight thread: K ≈ (Û + Ŵ)·n/σ, so dE/da = σ·M·n/|U| and dE/dc = σ·M·n/|W|.
+            let sm = self.topology.spacing * m;
+            (sm * inv_u * shape.normal, sm * inv_w * shape.normal)
+        };
+        // Link a→b carries −(force on a) at b; link b→c carries the force on c.
+        forces.link[l1] += de_da;
+        forces.link[l2] -= de_dc;
+    }
+
+    /// dE/dc (J) of a bending element carrying moment `m` (N·m/m) at curvature slope `dk_dc`
+    /// (both signed with the curvature).
+    #[inline(always)]
+    fn bend_de_dc(&self, m: f64, dk_dc: f64) -> f64 {
+        if m == 0.0 || dk_dc == 0.0 {
+            0.0
+        } else {
+            let sigma = self.topology.spacing;
+            sigma * sigma * m * dk_dc
+        }
+    }
+
+    fn bend_response(&self, laws: &[HysteresisLaw; 2], s: usize, k: f64) -> FrictionResponse {
+        let law = &laws[self.topology.bend_thread(s) as usize];
+        let slip = self.bend_slip[s];
+        law.respond(k, if slip.is_nan() { k } else { slip })
+    }
+
+    fn corner_gamma(geometry: &ClothGeometry, [(lu, su), (lw, sw)]: Corner) -> (f64, DVec3, DVec3) {
+        let (u, w) = (su * geometry.unit[lu as usize], sw * geometry.unit[lw as usize]);
+        (u.dot(w), u, w)
+    }
+
+    fn corner_response(&self, law: &HysteresisLaw, i: usize, gamma: f64) -> FrictionResponse {
+        let slip = self.corner_slip[i];
+        law.respond(gamma, if slip.is_nan() { gamma } else { slip })
+    }
+}
+
+impl ForceGenerator for Hysteresis {
+    fn effect(&self) -> &'static str {
+        "hysteresis"
+    }
+
+    fn energy(&self, geometry: &ClothGeometry) -> f64 {
+        let sigma2 = self.topology.spacing * self.topology.spacing;
+        let mut e = 0.0;
+        if let Some(laws) = &self.bending {
+            for s in 0..self.bend_slip.len() {
+                let k = self.spring(geometry, s).curvature;
+                let law = &laws[self.topology.bend_thread(s) as usize];
+                e += sigma2 * law.stored_energy(self.bend_response(laws, s, k).value);
+            }
+        }
+        if let Some(law) = &self.shear {
+            for (i, &corner) in self.corners.iter().enumerate() {
+                let gamma = Self::corner_gamma(geometry, corner).0;
+                e += 0.25 * sigma2 * law.stored_energy(self.corner_response(law, i, gamma).value);
+            }
+        }
+        e
+    }
+
+    fn add_forces(&self, geometry: &ClothGeometry, _velocities: &[DVec3], forces: &mut ForceBuffer) {
+        if let Some(laws) = &self.bending {
+            for s in 0..self.bend_slip.len() {
+                let shape = self.spring(geometry, s);
+                if shape.normal != DVec3::ZERO {
+                    let m = self.bend_response(laws, s, shape.curvature).value;
+                    self.add_bend_forces(geometry, s, &shape, m, forces);
+                }
+            }
+        }
+        if let Some(law) = &self.shear {
+            let q = 0.25 * self.topology.spacing * self.topology.spacing;
+            for (i, &corner) in self.corners.iter().enumerate() {
+                let [(lu, su), (lw, sw)] = corner;
+                let (gamma, u, w) = Self::corner_gamma(geometry, corner);
+                let de_dgamma = q * self.corner_response(law, i, gamma).value;
+                if de_dgamma != 0.0 {
+                    let (lu, lw) = (lu as usize, lw as usize);
+                    let (_, grad_a, grad_c) =
+                        cos_angle_gradients(u, w, geometry.inv_length[lu], geometry.inv_length[lw]);
+                    // −dE/dγ·∇γ on the neighbours; the sign maps them onto the links' second ends.
+                    forces.link[lu] -= su * de_dgamma * grad_a;
+                    forces.link[lw] -= sw * de_dgamma * grad_c;
+                }
+            }
+        }
+    }
+
+    fn add_stiffness_product(
+        &self,
+        geometry: &ClothGeometry,
+        dx: &Perturbation,
+        scale: f64,
+        definite: bool,
+        out: &mut ForceBuffer,
+    ) {
+        let clamp = AngleClamp::for_definite(definite);
+        let (unit, inv, d) = (&geometry.unit, &geometry.inv_length, &dx.link);
+        if let Some(laws) = &self.bending {
+            // A sticking element acts like a linear bending spring of rigidity k_f (dE/dc = k_f,
+            // exact for an unslipped element on the circle branch); a sliding one only turns its
+            // constant moment with the thread.
+            for (s, &[l1, l2]) in self.topology.bend_links.iter().enumerate() {
+                let (l1, l2) = (l1 as usize, l2 as usize);
+                let shape = self.spring(geometry, s);
+                if shape.normal == DVec3::ZERO {
+                    continue;
+                }
+                let (u, w) = (shape.u, shape.w);
+                let r = self.bend_response(laws, s, shape.curvature);
+                let law = &laws[self.topology.bend_thread(s) as usize];
+                let f1 = if r.sticking {
+                    law.stick_stiffness
+                } else {
+                    self.bend_de_dc(r.value, shape.slope)
+                };
+                if f1 == 0.0 {
+                    continue;
+                }
+                let (hu, hw) =
+                    angle_hessian_product((u, w), (inv[l1], inv[l2]), (f1, 0.0), (-d[l1], d[l2]), clamp);
+                out.link[l1] -= scale * hu;
+                out.link[l2] += scale * hw;
+            }
+        }
+        if let Some(law) = &self.shear {
+            let q = 0.25 * self.topology.spacing * self.topology.spacing;
+            for (i, &[(lu, su), (lw, sw)]) in self.corners.iter().enumerate() {
+                let (lu, lw) = (lu as usize, lw as usize);
+                let r = self.corner_response(law, i, (su * unit[lu]).dot(sw * unit[lw]));
+                let slope = if r.sticking { law.stick_stiffness } else { 0.0 };
+                let tangent = (q * r.value, q * slope);
+                add_corner_product(geometry, dx, ((lu, su), (lw, sw)), tangent, scale, clamp, out);
+            }
+        }
+    }
+
+    fn advance_state(&mut self, geometry: &ClothGeometry) {
+        let sigma2 = self.topology.spacing * self.topology.spacing;
+        let mut dissipated = 0.0;
+        if let Some(laws) = &self.bending {
+            for s in 0..self.bend_slip.len() {
+                let k = self.spring(geometry, s).curvature;
+                let r = self.bend_response(laws, s, k);
+                let old = self.bend_slip[s];
+                if !old.is_nan() {
+                    dissipated += sigma2 * r.value.abs() * (r.slip - old).abs();
+                }
+                self.bend_slip[s] = r.slip;
+            }
+        }
+        if let Some(law) = &self.shear {
+            for i in 0..self.corners.len() {
+                let gamma = Self::corner_gamma(geometry, self.corners[i]).0;
+                let r = self.corner_response(law, i, gamma);
+                let old = self.corner_slip[i];
+                if !old.is_nan() {
+                    dissipated += 0.25 * sigma2 * r.value.abs() * (r.slip - old).abs();
+                }
+                self.corner_slip[i] = r.slip;
+            }
+        }
+        self.dissipated += dissipated;
+    }
+}
+
+/// For each bending spring, the links of the crossing thread at its middle particle: the one
+/// leaving it and the one arriving at it (both oriented along the grid), [`NO_LINK`] where absent.
+fn crossing_links(topology: &ClothTopology) -> Vec<[u32; 2]> {
+    let n = topology.particle_count;
+    // Per particle: [leaving, arriving] link of each thread direction.
+    let mut at = vec![[[NO_LINK; 2]; 2]; n];
+    for (l, &[p, q]) in topology.links.iter().enumerate() {
+        let thread = usize::from(l >= topology.warp_link_count);
+        at[p as usize][thread][0] = l as u32;
+        at[q as usize][thread][1] = l as u32;
+    }
+    topology
+        .bend_particles
+        .iter()
+        .enumerate()
+        .map(|(s, &[_, b, _])| {
+            let other = 1 - topology.bend_thread(s) as usize;
+            at[b as usize][other]
+        })
+        .collect()
+}
