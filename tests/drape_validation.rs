@@ -1,6 +1,6 @@
 //! The seed's result, as tests that could fail: on the drapemeter, thick cotton forms fewer
-//! folds and keeps a higher drape coefficient than thin wool, over repeats like a laboratory's;
-//! and across fabrics, DC rises with the bending length c = (B/W)^(1/3).
+//! folds and keeps a higher drape coefficient than thin wool, over repeats like a laboratory's,
+//! with and without hysteresis; and across fabrics, DC rises with the bending length c = (B/W)^(1/3).
 
 use kes_cloth::material::Thread;
 use kes_cloth::repeat::{RepeatSummary, simulate_repeats, summarise};
@@ -40,6 +40,34 @@ fn check_cotton_against_wool(cotton: &RepeatSummary, wool: &RepeatSummary) {
 #[test]
 fn thick_cotton_drapes_with_fewer_folds_than_thin_wool() {
     check_cotton_against_wool(&repeats("drape_cotton"), &repeats("drape_wool"));
+}
+
+/// The same claim with hysteresis (bending and shear friction from 2HB, 2HG, 2HG5): friction
+/// leaves many resting shapes, so the repeats must still settle and keep the ordering.
+#[test]
+fn thick_cotton_drapes_with_fewer_folds_than_thin_wool_with_hysteresis() {
+    check_cotton_against_wool(
+        &repeats("hysteresis/drape_cotton"),
+        &repeats("hysteresis/drape_wool"),
+    );
+}
+
+/// Every scene in `scenes/hysteresis/` is run by the test above.
+#[test]
+fn every_hysteresis_scene_is_run() {
+    let mut found: Vec<String> = std::fs::read_dir(common::crate_path("scenes/hysteresis"))
+        .unwrap()
+        .map(|e| {
+            e.unwrap()
+                .path()
+                .file_stem()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    found.sort();
+    assert_eq!(found, ["drape_cotton", "drape_wool"]);
 }
 
 /// The same claim on the Cusick tester (30 cm on 18 cm, BS 5058): fewer folds, higher DC.

@@ -10,21 +10,15 @@
 //! 3. Around a closed bending or shear cycle, the sliders dissipate the loop's area (the work the
 //!    instrument did); over the whole sweep, work = stored energy + dissipated.
 
-use std::path::Path;
-
 use kes_cloth::kes_lab::bending_test::{CURVATURE_STEP, MAX_CURVATURE, bending_strip, sweep_bending};
 use kes_cloth::kes_lab::shear_test::{MAX_SHEAR_DEG, SHEAR_STEP_DEG, shear_strip, sweep_shear};
 use kes_cloth::kes_lab::{KesLoop, Reading, kes_cycle, run_kes_lab};
 use kes_cloth::material::{Fabric, Thread};
 
+mod common;
+
 fn shipped_fabrics() -> Vec<Fabric> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/fabrics");
-    let mut paths: Vec<_> = std::fs::read_dir(dir)
-        .expect("assets/fabrics is readable")
-        .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    paths.sort();
+    let paths = common::shipped_fabric_paths();
     assert!(paths.len() >= 4, "the shipped fabrics are all here");
     paths
         .iter()
@@ -160,6 +154,60 @@ fn a_shear_cycle_dissipates_the_area_of_its_loop() {
             ((dissipated - loop_work) / loop_work).abs() < 0.01,
             "{}: loop area {loop_work:.4e} J, dissipated {dissipated:.4e} J",
             fabric.name
+        );
+    }
+}
+
+/// `kes-cloth kes FABRIC --json` prints one object keyed by KES name, each value
+/// `{"file", "recovered"}` in KES units, and writes both loop plots; a bad fabric file or spacing
+/// is an error with a non-zero exit.
+#[test]
+fn kes_command_prints_json_and_draws_the_loops() {
+    let out = std::env::temp_dir().join("kes-cloth-kes-lab-test");
+    let fabric = common::crate_path("assets/fabrics/thin_wool.ron");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+        .args([
+            "kes",
+            fabric.to_str().unwrap(),
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .expect("the binary runs");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).expect("stdout is one JSON object");
+    for key in ["B_warp", "B_weft", "2HB_warp", "2HB_weft", "G", "2HG", "2HG5"] {
+        let (file, recovered) = (&json[key]["file"], &json[key]["recovered"]);
+        let (file, recovered) = (file.as_f64().unwrap(), recovered.as_f64().unwrap());
+        assert!(
+            (recovered - file).abs() <= 0.03 * file,
+            "{key}: file {file}, recovered {recovered}"
+        );
+    }
+    assert_eq!(
+        json["B_warp"]["file"].as_f64(),
+        Some(0.055),
+        "KES units, as in the file"
+    );
+    for png in ["kes_bending.png", "kes_shear.png"] {
+        assert!(
+            std::fs::metadata(out.join(png)).is_ok_and(|m| m.len() > 1000),
+            "{png} written"
+        );
+    }
+    for args in [
+        vec!["kes", "no/such/fabric.ron"],
+        vec!["kes", fabric.to_str().unwrap(), "--spacing-m", "0"],
+    ] {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+            .args(&args)
+            .output()
+            .expect("the binary runs");
+        assert!(!run.status.success(), "{args:?} must fail");
+        assert!(
+            String::from_utf8_lossy(&run.stderr).starts_with("error:"),
+            "{args:?}"
         );
     }
 }
