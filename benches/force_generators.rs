@@ -9,8 +9,8 @@ use std::sync::Arc;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use kes_cloth::forces::{
-    Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, KesTensile, LinkCompression,
-    LinkDamping, SeedSeparation, Trellising,
+    Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile,
+    LinkCompression, LinkDamping, SeedSeparation, Trellising,
 };
 use kes_cloth::material::Fabric;
 
@@ -75,6 +75,23 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // Hysteresis: the per-step state advance and the forces, on the loaded sheet after one
+    // advance from the flat sheet (so the elements carry friction).
+    let mut hysteresis = Hysteresis::new(topo.clone(), &fabric, true, true);
+    geo.update(&topo.rest_positions(DVec3::ZERO, DVec3::X, DVec3::Z));
+    hysteresis.advance_state(&geo);
+    geo.update(&x);
+    hysteresis.advance_state(&geo);
+    group.bench_function("hysteresis_forces", |b| {
+        b.iter(|| {
+            f.clear();
+            hysteresis.add_forces(black_box(&geo), &v, &mut f);
+            black_box(f.resolve(&topo));
+        })
+    });
+    group.bench_function("hysteresis_advance", |b| {
+        b.iter(|| hysteresis.advance_state(black_box(&geo)))
+    });
     group.finish();
 }
 

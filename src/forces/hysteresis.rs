@@ -19,6 +19,7 @@ use glam::DVec3;
 
 use super::bending::curvature_of_cos;
 use super::element_stiffness::{AngleClamp, add_corner_product, angle_hessian_product};
+use super::trellising::{add_crossing_forces, crossing_gammas};
 use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
 use crate::material::{Fabric, FrictionResponse, HysteresisLaw, Thread};
 
@@ -35,7 +36,8 @@ struct SpringShape {
     /// Unit vectors from the middle particle to the first and to the last.
     u: DVec3,
     w: DVec3,
-    /// The cloth's unit normal at the middle particle (zero without a crossing thread).
+    /// The cloth's normal at the middle particle, not normalised (zero without a crossing
+    /// thread).
     normal: DVec3,
 }
 
@@ -115,7 +117,7 @@ impl Hysteresis {
             .filter(|&&l| l != NO_LINK)
             .map(|&l| geometry.unit[l as usize])
             .sum::<DVec3>();
-        let normal = (w - u).cross(cross).normalize_or_zero();
+        let normal = (w - u).cross(cross);
         let mut shape = SpringShape {
             curvature: 0.0,
             slope: 0.0,
@@ -163,7 +165,8 @@ impl Hysteresis {
         } else {
             // A straight thread: K ≈ (Û + Ŵ)·n/σ, so dE/da = σ·M·n/|U| and dE/dc = σ·M·n/|W|.
             let sm = self.topology.spacing * m;
-            (sm * inv_u * shape.normal, sm * inv_w * shape.normal)
+            let n = shape.normal.normalize_or_zero();
+            (sm * inv_u * n, sm * inv_w * n)
         };
         // Link a→b carries −(force on a) at b; link b→c carries the force on c.
         forces.link[l1] += de_da;
@@ -235,14 +238,23 @@ impl ForceGenerator for Hysteresis {
         }
         if let Some(law) = &self.shear {
             let q = 0.25 * self.topology.spacing * self.topology.spacing;
-            for (i, &corner) in self.corners.iter().enumerate() {
+            let (unit, inv) = (&geometry.unit, &geometry.inv_length);
+            // Interior crossings four corners at a time, as trellising does; then edge corners.
+            let full = &self.topology.full_crossings;
+            for (c, &crossing) in full.iter().enumerate() {
+                let [up, wp, um, wm] = crossing.map(|l| l as usize);
+                let vectors = [unit[up], unit[wp], -unit[um], -unit[wm]];
+                let gammas = crossing_gammas(vectors);
+                let values = [0, 1, 2, 3].map(|k| q * self.corner_response(law, 4 * c + k, gammas[k]).value);
+                add_crossing_forces(inv, crossing, vectors, gammas, values, forces);
+            }
+            for (i, &corner) in self.corners.iter().enumerate().skip(4 * full.len()) {
                 let [(lu, su), (lw, sw)] = corner;
                 let (gamma, u, w) = Self::corner_gamma(geometry, corner);
                 let de_dgamma = q * self.corner_response(law, i, gamma).value;
                 if de_dgamma != 0.0 {
                     let (lu, lw) = (lu as usize, lw as usize);
-                    let (_, grad_a, grad_c) =
-                        cos_angle_gradients(u, w, geometry.inv_length[lu], geometry.inv_length[lw]);
+                    let (_, grad_a, grad_c) = cos_angle_gradients(u, w, inv[lu], inv[lw]);
                     // −dE/dγ·∇γ on the neighbours; the sign maps them onto the links' second ends.
                     forces.link[lu] -= su * de_dgamma * grad_a;
                     forces.link[lw] -= sw * de_dgamma * grad_c;

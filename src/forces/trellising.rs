@@ -40,6 +40,39 @@ fn corner(
     (-de_dgamma * grad_a, -de_dgamma * grad_c)
 }
 
+/// Adds the forces of the four corners of an interior crossing (links `[+warp, +weft, −warp,
+/// −weft]`, unit vectors u1, w1 leaving it and u2, w2 the arriving ones reversed), given each
+/// corner's γ and dE/dγ (J) in the order (u1, w1), (u2, w1), (u2, w2), (u1, w2). Each link is read
+/// and written once; `inv` holds the links' inverse lengths (m⁻¹).
+#[inline(always)]
+pub(crate) fn add_crossing_forces(
+    inv: &[f64],
+    crossing: [u32; 4],
+    [u1, w1, u2, w2]: [DVec3; 4],
+    [g11, g21, g22, g12]: [f64; 4],
+    [d11, d21, d22, d12]: [f64; 4],
+    forces: &mut ForceBuffer,
+) {
+    let [up, wp, um, wm] = crossing.map(|l| l as usize);
+    // Corner (u, w) pushes the end of u by −dE/dγ·(w − γu)/|u|; the two corners that share a link
+    // are summed before the division by its length.
+    let on_u1 = (d11 * w1 + d12 * w2 - (d11 * g11 + d12 * g12) * u1) * inv[up];
+    let on_u2 = (d21 * w1 + d22 * w2 - (d21 * g21 + d22 * g22) * u2) * inv[um];
+    let on_w1 = (d11 * u1 + d21 * u2 - (d11 * g11 + d21 * g21) * w1) * inv[wp];
+    let on_w2 = (d12 * u1 + d22 * u2 - (d12 * g12 + d22 * g22) * w2) * inv[wm];
+    // Outgoing links end at the neighbour (force −on_·); incoming links start there.
+    forces.link[up] -= on_u1;
+    forces.link[wp] -= on_w1;
+    forces.link[um] += on_u2;
+    forces.link[wm] += on_w2;
+}
+
+/// γ of the four corners of a crossing, in [`add_crossing_forces`]'s order.
+#[inline(always)]
+pub(crate) fn crossing_gammas([u1, w1, u2, w2]: [DVec3; 4]) -> [f64; 4] {
+    [u1.dot(w1), u2.dot(w1), u2.dot(w2), u1.dot(w2)]
+}
+
 impl Trellising {
     /// Trellising for `topology` with the fabric's elastic shear curve.
     pub fn new(topology: Arc<ClothTopology>, fabric: &Fabric) -> Self {
@@ -56,22 +89,11 @@ impl Trellising {
         let q = 0.25 * topo.spacing * topo.spacing;
         let (unit, inv) = (&geometry.unit, &geometry.inv_length);
         // Interior crossings: four links, four corners, each link read and written once.
-        // Corner (u, w) pushes the end of u by −dE/dγ·(w − γu)/|u|; the two corners that share
-        // a link are summed before the division by its length.
-        for &[up, wp, um, wm] in &topo.full_crossings {
-            let (up, wp, um, wm) = (up as usize, wp as usize, um as usize, wm as usize);
-            let (u1, w1, u2, w2) = (unit[up], unit[wp], -unit[um], -unit[wm]);
-            let (g11, g21, g22, g12) = (u1.dot(w1), u2.dot(w1), u2.dot(w2), u1.dot(w2));
-            let (d11, d21, d22, d12) = (q * f(g11), q * f(g21), q * f(g22), q * f(g12));
-            let on_u1 = (d11 * w1 + d12 * w2 - (d11 * g11 + d12 * g12) * u1) * inv[up];
-            let on_u2 = (d21 * w1 + d22 * w2 - (d21 * g21 + d22 * g22) * u2) * inv[um];
-            let on_w1 = (d11 * u1 + d21 * u2 - (d11 * g11 + d21 * g21) * w1) * inv[wp];
-            let on_w2 = (d12 * u1 + d22 * u2 - (d12 * g12 + d22 * g22) * w2) * inv[wm];
-            // Outgoing links end at the neighbour (force −on_·); incoming links start there.
-            forces.link[up] -= on_u1;
-            forces.link[wp] -= on_w1;
-            forces.link[um] += on_u2;
-            forces.link[wm] += on_w2;
+        for &crossing in &topo.full_crossings {
+            let [up, wp, um, wm] = crossing.map(|l| l as usize);
+            let vectors = [unit[up], unit[wp], -unit[um], -unit[wm]];
+            let gammas = crossing_gammas(vectors);
+            add_crossing_forces(inv, crossing, vectors, gammas, gammas.map(|g| q * f(g)), forces);
         }
         // Edge crossings: corner by corner.
         for &[lu, lw] in &topo.corner_links {

@@ -34,9 +34,8 @@ pub struct HysteresisLaw {
     /// k_f, stiffness while sticking (y per unit x; N·m/m per m⁻¹ = N·m for bending, N/m per
     /// unit γ for shear). 0 when the fabric has no hysteresis.
     pub stick_stiffness: f64,
-    /// Threshold h (y units) at |x|, piecewise linear through these points and constant beyond
-    /// the first and the last.
-    threshold: Vec<(f64, f64)>,
+    /// Threshold h (y units) at |x|: linear between these two points (x, h), constant outside.
+    threshold: [(f64, f64); 2],
 }
 
 /// The friction element's answer at a given x.
@@ -56,7 +55,7 @@ impl HysteresisLaw {
         let h = 0.5 * law.hysteresis_width;
         Self {
             stick_stiffness: 2.0 * h / BENDING_REVERSAL_SPAN,
-            threshold: vec![(0.0, h)],
+            threshold: [(0.0, h), (0.0, h)],
         }
     }
 
@@ -66,7 +65,7 @@ impl HysteresisLaw {
         let span = SHEAR_REVERSAL_SPAN_DEG.to_radians();
         Self {
             stick_stiffness: 2.0 * h1.max(h5) / span,
-            threshold: vec![(0.5_f64.to_radians().sin(), h1), (5.0_f64.to_radians().sin(), h5)],
+            threshold: [(0.5_f64.to_radians().sin(), h1), (5.0_f64.to_radians().sin(), h5)],
         }
     }
 
@@ -76,19 +75,17 @@ impl HysteresisLaw {
     }
 
     /// The slider's threshold h (y units) at `x`.
+    #[inline]
     pub fn threshold(&self, x: f64) -> f64 {
         let x = x.abs();
-        let pts = &self.threshold;
-        let (first, last) = (pts[0], pts[pts.len() - 1]);
-        if x <= first.0 {
-            return first.1;
+        let [a, b] = self.threshold;
+        if x <= a.0 {
+            a.1
+        } else if x >= b.0 {
+            b.1
+        } else {
+            a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
         }
-        if x >= last.0 {
-            return last.1;
-        }
-        let i = pts.iter().position(|p| p.0 > x).unwrap_or(pts.len() - 1);
-        let (a, b) = (pts[i - 1], pts[i]);
-        a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
     }
 
     /// Return mapping: the element at `x` with slip `slip` before the step.
