@@ -58,6 +58,7 @@
 #![warn(missing_docs)]
 
 pub mod bodies;
+pub mod checkpoint;
 pub mod embed;
 pub mod forces;
 pub mod implicit;

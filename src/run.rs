@@ -1,18 +1,20 @@
 //! Running a scene: step the schedule until the cloth settles or the time limit, then collect
 //! metrics and write the output files.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
 
+use crate::checkpoint::{CheckpointError, Snapshot};
 use crate::forces::{
     AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile, LinkCompression,
     LinkDamping, SeedSeparation, Trellising,
 };
-use crate::measure::{DrapeMeasurement, Motion, Progress, SettleState, measure_drape, project};
+use crate::measure::{CreepWatch, DrapeMeasurement, Motion, Progress, SettleState, measure_drape, project};
 use crate::output::{
     EffectCost, FailureReport, Metrics, OutputError, TopViewOutline, write_obj, write_top_view,
 };
@@ -20,10 +22,25 @@ use crate::scene::{ColliderShape, Scene};
 use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Failure, Implicit, build_step_schedule};
 
 /// How to run.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Show a progress bar on the terminal.
     pub progress: bool,
+    /// Write checkpoints (see [`crate::checkpoint`]).
+    pub checkpoint: Option<CheckpointPlan>,
+    /// Set from outside (e.g. by a Ctrl-C handler) to stop the run after the current step; the
+    /// run then writes a checkpoint (with a plan) and returns its partial results.
+    pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+/// Where and how often a run writes its checkpoint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckpointPlan {
+    /// The folder `checkpoint.cbor` is written to (the run's output folder).
+    pub dir: PathBuf,
+    /// Interval in simulated time (s), rounded to whole steps; a checkpoint is also written when
+    /// the run is interrupted.
+    pub every_s: f64,
 }
 
 /// The result of a run: its metrics and the final cloth.
@@ -37,6 +54,8 @@ pub struct RunOutcome {
     pub positions: Vec<DVec3>,
     /// The drape test's measurement, for scenes with a drapemeter disk (a cylinder).
     pub drape: Option<DrapeMeasurement>,
+    /// The first checkpoint that could not be written, if any (the run went on without it).
+    pub checkpoint_error: Option<String>,
 }
 
 /// A run that stopped on a non-finite value.
@@ -49,7 +68,41 @@ pub struct DivergenceError(pub FailureReport);
 
 /// Simulates `scene` to rest or to its time limit. A failure is recorded in the metrics.
 pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
-    let (mut world, cloth) = crate::scene::spawn::spawn(scene);
+    let (world, cloth) = crate::scene::spawn::spawn(scene);
+    run_to_end(scene, world, cloth, options, 0.0)
+}
+
+/// Continues the run whose checkpoint is in `dir` to its end, writing further checkpoints there
+/// at the interval it was started with. Returns the scene (as the checkpoint recorded it) and
+/// the outcome, which is exactly that of the uninterrupted run (wall time aside).
+pub fn resume(dir: &Path, options: &RunOptions) -> Result<(Scene, RunOutcome), CheckpointError> {
+    let snapshot = Snapshot::read(dir)?;
+    let scene = Scene::from_spec(snapshot.scene.clone(), snapshot.scene_path.clone())
+        .map_err(|e| CheckpointError::Scene(Box::new(e)))?;
+    let (mut world, cloth) = crate::scene::spawn::spawn(&scene);
+    let every_s = snapshot.every_s;
+    let wall = snapshot.wall_time_s;
+    snapshot.restore(&mut world, cloth)?;
+    let mut options = options.clone();
+    if options.checkpoint.is_none() {
+        options.checkpoint = every_s.map(|every_s| CheckpointPlan {
+            dir: dir.to_path_buf(),
+            every_s,
+        });
+    }
+    let outcome = run_to_end(&scene, world, cloth, &options, wall);
+    Ok((scene, outcome))
+}
+
+/// Steps `world` until the cloth settles, the time limit, a failure or an interrupt, then
+/// measures. `wall_before` (s) is wall time already spent on this run (a resumed one).
+fn run_to_end(
+    scene: &Scene,
+    mut world: World,
+    cloth: Entity,
+    options: &RunOptions,
+    wall_before: f64,
+) -> RunOutcome {
     let mut schedule = build_step_schedule();
     let max_time = scene.spec.integration.max_time_s;
     let dt = scene.spec.integration.dt_s;
@@ -57,9 +110,37 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
     if options.progress {
         world.insert_resource(Progress::new(max_time, (0.02 / dt).ceil() as u64));
     }
+    let checkpoint_steps = options
+        .checkpoint
+        .as_ref()
+        .map(|c| ((c.every_s / dt).round() as u64).max(1));
+    let mut checkpoint_error = None;
+    let mut interrupted = false;
     let start = Instant::now();
     let mut failure = None;
+    let creep_check = scene.spec.integration.settle.creep_check_s;
     loop {
+        let clock = *world.resource::<Clock>();
+        if world.resource::<SettleState>().settled_at.is_some() {
+            // Settled: stop, or first watch for creep over `creep_check` more seconds.
+            let Some(watch) = world.get_resource::<CreepWatch>() else {
+                if creep_check <= 0.0 {
+                    break;
+                }
+                let positions = world.get::<ClothState>(cloth).map(|s| s.positions.clone());
+                world.insert_resource(CreepWatch {
+                    start_time: clock.time,
+                    positions: positions.unwrap_or_default(),
+                });
+                continue;
+            };
+            if clock.time - watch.start_time >= creep_check - 0.5 * dt {
+                break;
+            }
+        }
+        if clock.step >= max_steps {
+            break;
+        }
         schedule.run(&mut world);
         if let Some(f) = world.resource::<Failure>().0.clone() {
             let effect = match f.effect.as_str() {
@@ -78,12 +159,27 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
             });
             break;
         }
-        let clock = world.resource::<Clock>();
-        if world.resource::<SettleState>().settled_at.is_some() || clock.step >= max_steps {
+        let step = world.resource::<Clock>().step;
+        let stop = options
+            .interrupt
+            .as_ref()
+            .is_some_and(|i| i.load(Ordering::Relaxed));
+        let due = checkpoint_steps.is_some_and(|n| step % n == 0);
+        if let (Some(plan), true) = (&options.checkpoint, stop || due) {
+            let wall = wall_before + start.elapsed().as_secs_f64();
+            let written =
+                Snapshot::capture(&world, cloth, &scene.path, &scene.spec, Some(plan.every_s), wall)
+                    .and_then(|s| s.write(&plan.dir));
+            if let Err(e) = written {
+                checkpoint_error.get_or_insert(e.to_string());
+            }
+        }
+        if stop {
+            interrupted = true;
             break;
         }
     }
-    let wall = start.elapsed().as_secs_f64();
+    let wall = wall_before + start.elapsed().as_secs_f64();
     if let Some(p) = world.get_resource::<Progress>() {
         p.finish();
     }
@@ -108,6 +204,10 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
         None
     };
     let implicit = world.get::<Implicit>(cloth).map(|i| i.0.stats);
+    let creep = world
+        .get_resource::<CreepWatch>()
+        .filter(|_| failure.is_none())
+        .map(|w| w.creep(clock.time, &positions));
     let metrics = Metrics {
         integrator: format!("{:?}", scene.spec.integration.integrator),
         cg_iterations_mean: implicit.map(|s| s.iterations as f64 / s.solves.max(1) as f64),
@@ -159,13 +259,18 @@ pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
                 )
             })
             .collect(),
+        creep_window_s: creep.map(|c| c.window),
+        creep_max_node_m: creep.map(|c| c.max_node),
+        creep_centroid_m: creep.map(|c| c.centroid),
         failure,
+        interrupted,
     };
     RunOutcome {
         metrics,
         topology,
         positions,
         drape,
+        checkpoint_error,
     }
 }
 
@@ -396,6 +501,14 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.max_penetration_m * 1e3,
         m.peak_penetration_m * 1e3
     );
+    if let (Some(w), Some(node), Some(centroid)) = (m.creep_window_s, m.creep_max_node_m, m.creep_centroid_m)
+    {
+        s += &format!(
+            "  creep over {w:.2} s after settling: nodes moved at most {:.3} mm, the centroid {:.3} mm\n",
+            node * 1e3,
+            centroid * 1e3
+        );
+    }
     if let (Some(dc), Some(n)) = (m.drape_coefficient, m.nodes) {
         let tag = if m.settled {
             ""

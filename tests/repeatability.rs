@@ -7,16 +7,6 @@ use kes_cloth::scene::Scene;
 
 mod common;
 
-fn without_clock_times(m: &kes_cloth::output::Metrics) -> serde_json::Value {
-    let mut v = serde_json::to_value(m).unwrap();
-    let map = v.as_object_mut().unwrap();
-    map.remove("wall_time_s");
-    for cost in map["effects"].as_object_mut().unwrap().values_mut() {
-        cost.as_object_mut().unwrap().remove("seconds");
-    }
-    v
-}
-
 #[test]
 fn a_scene_run_twice_gives_bit_identical_results() {
     for (scene, sets) in [
@@ -37,7 +27,10 @@ fn a_scene_run_twice_gives_bit_identical_results() {
         let scene = Scene::load(common::crate_path(scene), &sets).unwrap();
         let a = simulate(&scene, &RunOptions::default());
         let b = simulate(&scene, &RunOptions::default());
-        assert_eq!(without_clock_times(&a.metrics), without_clock_times(&b.metrics));
+        assert_eq!(
+            common::without_clock_times(&a.metrics),
+            common::without_clock_times(&b.metrics)
+        );
         assert!(
             a.positions
                 .iter()

@@ -5,7 +5,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use kes_cloth::run::{RunOptions, simulate, summary, write_outputs};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use kes_cloth::run::{CheckpointPlan, RunOptions, RunOutcome, simulate, summary, write_outputs};
 use kes_cloth::scene::Scene;
 
 /// Simulate woven cloth from KES-F measurements (Horiba & Shimizu's particle model on Rapier).
@@ -19,7 +22,7 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_cotton.ron --vary integration.dt_s=0.0005,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_cotton.ron --vary integration.dt_s=0.0005,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -52,6 +55,23 @@ enum Command {
         /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
         #[arg(long, value_name = "N")]
         repeat: Option<usize>,
+        /// Write `DIR/checkpoint.cbor` every SECONDS of simulated time (and on Ctrl-C), so that
+        /// `kes-cloth resume DIR` can continue the run; the resumed run ends exactly where an
+        /// uninterrupted one would.
+        #[arg(long, value_name = "SECONDS")]
+        checkpoint_every: Option<f64>,
+    },
+    /// Continue a run from the checkpoint in DIR (written by `run --checkpoint-every`, or on
+    /// Ctrl-C) to its end, and write its results into DIR as `run` would.
+    ///
+    /// Example: kes-cloth run scenes/drape_cotton.ron --checkpoint-every 0.5   (Ctrl-C)
+    ///          kes-cloth resume out/drape_cotton
+    Resume {
+        /// The run's output folder, holding `checkpoint.cbor`.
+        dir: PathBuf,
+        /// No progress bar and no summary.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Measure what accuracy costs in time: run a scene across a grid of settings (in parallel)
     /// and compare every run with a converged reference.
@@ -132,6 +152,7 @@ fn main() -> ExitCode {
             set,
             quiet,
             repeat,
+            checkpoint_every,
         } => {
             let scene = match Scene::load(&scene, &set) {
                 Ok(s) => s,
@@ -141,21 +162,34 @@ fn main() -> ExitCode {
             if let Some(n) = repeat {
                 return run_repeats(&scene, n, &dir, quiet);
             }
+            if let Some(every) = checkpoint_every
+                && !(every.is_finite() && every > 0.0)
+            {
+                return fail(&format!(
+                    "--checkpoint-every = {every}: must be a positive number of simulated seconds"
+                ));
+            }
             let options = RunOptions {
                 progress: !quiet && std::io::stderr().is_terminal(),
+                checkpoint: checkpoint_every.map(|every_s| CheckpointPlan {
+                    dir: dir.clone(),
+                    every_s,
+                }),
+                interrupt: Some(interrupt_flag()),
             };
             let outcome = simulate(&scene, &options);
-            if let Err(e) = write_outputs(&scene, &outcome, &dir) {
-                return fail(&e);
+            finish_run(&scene, &outcome, &dir, quiet)
+        }
+        Command::Resume { dir, quiet } => {
+            let options = RunOptions {
+                progress: !quiet && std::io::stderr().is_terminal(),
+                checkpoint: None,
+                interrupt: Some(interrupt_flag()),
+            };
+            match kes_cloth::run::resume(&dir, &options) {
+                Ok((scene, outcome)) => finish_run(&scene, &outcome, &dir, quiet),
+                Err(e) => fail(&e),
             }
-            if let Some(f) = &outcome.metrics.failure {
-                return fail(&kes_cloth::run::DivergenceError(f.clone()));
-            }
-            if !quiet {
-                println!("{}", summary(&outcome));
-                println!("  wrote {}", dir.display());
-            }
-            ExitCode::SUCCESS
         }
         Command::Study {
             scene,
@@ -180,6 +214,49 @@ fn main() -> ExitCode {
             Err(e) => fail(&e),
         },
     }
+}
+
+/// A flag that Ctrl-C sets: the run stops after its current step, writes a checkpoint (when
+/// checkpointing) and its partial outputs.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let handler_flag = flag.clone();
+    if let Err(e) = ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed)) {
+        eprintln!("warning: Ctrl-C will not keep partial results: {e}");
+    }
+    flag
+}
+
+/// Writes a run's outputs and reports it; exit status 1 for a failed run, 130 for an
+/// interrupted one.
+fn finish_run(scene: &Scene, outcome: &RunOutcome, dir: &std::path::Path, quiet: bool) -> ExitCode {
+    if let Err(e) = write_outputs(scene, outcome, dir) {
+        return fail(&e);
+    }
+    if let Some(e) = &outcome.checkpoint_error {
+        eprintln!("warning: a checkpoint could not be written: {e}");
+    }
+    if let Some(f) = &outcome.metrics.failure {
+        return fail(&kes_cloth::run::DivergenceError(f.clone()));
+    }
+    if outcome.metrics.interrupted {
+        let resume = if dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE).exists() {
+            format!("; continue with: kes-cloth resume {}", dir.display())
+        } else {
+            String::new()
+        };
+        eprintln!(
+            "interrupted at t = {:.3} s: partial results in {}{resume}",
+            outcome.metrics.sim_time_s,
+            dir.display()
+        );
+        return ExitCode::from(130);
+    }
+    if !quiet {
+        println!("{}", summary(outcome));
+        println!("  wrote {}", dir.display());
+    }
+    ExitCode::SUCCESS
 }
 
 fn run_repeats(scene: &Scene, n: usize, dir: &std::path::Path, quiet: bool) -> ExitCode {

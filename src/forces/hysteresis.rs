@@ -26,6 +26,17 @@ use crate::material::{Fabric, FrictionResponse, HysteresisLaw, Thread};
 /// A trellis corner as its two links, each with the sign that points it away from the crossing.
 type Corner = [(u32, f64); 2];
 
+/// The internal state of a [`Hysteresis`] effect: every element's slip and the energy dissipated.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FrictionState {
+    /// Slip of each bending spring's element (m⁻¹; NaN before its first step).
+    pub bend_slip: Vec<f64>,
+    /// Slip of each trellis corner's element (dimensionless; NaN before its first step).
+    pub corner_slip: Vec<f64>,
+    /// Energy dissipated so far (J).
+    pub dissipated: f64,
+}
+
 /// A bending spring's signed curvature and what its forces need.
 struct SpringShape {
     /// Signed curvature K (m⁻¹): positive when the thread curves towards `normal`; 0 when
@@ -89,6 +100,28 @@ impl Hysteresis {
             topology,
             dissipated: 0.0,
         }
+    }
+
+    /// The elements' state, for checkpoints.
+    pub fn friction_state(&self) -> FrictionState {
+        FrictionState {
+            bend_slip: self.bend_slip.clone(),
+            corner_slip: self.corner_slip.clone(),
+            dissipated: self.dissipated,
+        }
+    }
+
+    /// Restores a state saved by [`Self::friction_state`]; `false` (and nothing changed) if it
+    /// does not fit this cloth.
+    pub fn restore_friction_state(&mut self, state: &FrictionState) -> bool {
+        if state.bend_slip.len() != self.bend_slip.len() || state.corner_slip.len() != self.corner_slip.len()
+        {
+            return false;
+        }
+        self.bend_slip.clone_from(&state.bend_slip);
+        self.corner_slip.clone_from(&state.corner_slip);
+        self.dissipated = state.dissipated;
+        true
     }
 
     /// Energy dissipated by the sliders so far (J).

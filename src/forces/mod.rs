@@ -42,7 +42,7 @@ pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
 pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
-pub use hysteresis::Hysteresis;
+pub use hysteresis::{FrictionState, Hysteresis};
 pub use kes_tensile::KesTensile;
 pub use link_compression::LinkCompression;
 pub use link_damping::LinkDamping;

@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 /// How a solve ended.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CgReport {
     /// Operator applications after the initial residual.
     pub iterations: usize,

@@ -27,7 +27,7 @@ impl Default for ImplicitSettings {
 }
 
 /// Totals over a run, for `metrics.json`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ImplicitStats {
     /// Solves done (one per step).
     pub solves: u64,
@@ -65,6 +65,21 @@ pub struct ImplicitSolver {
 }
 
 impl ImplicitSolver {
+    /// The last step's Δv (m/s), the next solve's warm start (for checkpoints).
+    pub fn warm_start(&self) -> &[DVec3] {
+        &self.dv
+    }
+
+    /// Restores a warm start saved by [`Self::warm_start`]; `false` (and nothing changed) if it
+    /// does not fit this cloth.
+    pub fn restore_warm_start(&mut self, dv: &[DVec3]) -> bool {
+        if dv.len() != self.dv.len() {
+            return false;
+        }
+        self.dv.copy_from_slice(dv);
+        true
+    }
+
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
         let n = topology.particle_count;

@@ -8,7 +8,7 @@ use crate::forces::ClothTopology;
 use crate::schedule::{Clock, ClothNodes, ClothState, Failure, Physics, SimulationFailure};
 
 /// Motion of the cloth after the latest step.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Motion {
     /// Speed of the fastest node (m/s).
     pub max_speed: f64,

@@ -17,7 +17,7 @@ use crate::schedule::{Clock, ClothState};
 const SNAPSHOTS_PER_WINDOW: usize = 5;
 
 /// Tracks the settle criterion through the run.
-#[derive(Resource, Clone, Debug, PartialEq)]
+#[derive(Resource, Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SettleState {
     /// Mean speed threshold over the window (m/s).
     pub max_speed: f64,

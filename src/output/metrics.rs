@@ -96,8 +96,18 @@ pub struct Metrics {
     pub cg_unconverged_steps: Option<u64>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
+    /// Creep check (scenes with `settle.creep_check_s`): how long the cloth was watched after
+    /// settling (s).
+    pub creep_window_s: Option<f64>,
+    /// Largest node displacement over the creep check (m).
+    pub creep_max_node_m: Option<f64>,
+    /// Displacement of the nodes' centroid over the creep check (m).
+    pub creep_centroid_m: Option<f64>,
     /// Set when the run stopped on a non-finite value.
     pub failure: Option<FailureReport>,
+    /// The run was interrupted (Ctrl-C) before it settled or reached its time limit: these are
+    /// partial results; `kes-cloth resume` continues from the last checkpoint.
+    pub interrupted: bool,
 }
 
 impl Metrics {

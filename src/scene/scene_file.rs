@@ -299,6 +299,11 @@ pub struct SettleSpec {
     /// Ignore the first part of the run (s; default 0.2), while the cloth has not yet moved.
     #[serde(default = "default_min_time")]
     pub min_time_s: f64,
+    /// After settling, keep simulating this long (s; default 0, no check) and report how far
+    /// the nodes and the cloth's centroid still move (`creep_*` in `metrics.json`): rest, not a
+    /// slow slide, is what a drape test measures.
+    #[serde(default)]
+    pub creep_check_s: f64,
 }
 
 fn default_min_time() -> f64 {
@@ -311,6 +316,7 @@ impl Default for SettleSpec {
             max_speed_m_per_s: 0.001,
             hold_s: 0.5,
             min_time_s: default_min_time(),
+            creep_check_s: 0.0,
         }
     }
 }

@@ -192,6 +192,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1e4,
         "s",
     )?;
+    in_closed(
+        "integration.settle.creep_check_s",
+        i.settle.creep_check_s,
+        0.0,
+        1e4,
+        "s",
+    )?;
     whole(
         "integration.implicit_solver.max_iterations",
         i.implicit_solver.max_iterations,

@@ -59,7 +59,7 @@ pub struct Implicit(pub crate::implicit::ImplicitSolver);
 pub struct Effect<G: ForceGenerator + 'static>(pub G);
 
 /// Simulation time.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+#[derive(Resource, Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Clock {
     /// Time step (s).
     pub dt: f64,
@@ -107,6 +107,14 @@ impl EffectLedger {
                 e.2 += seconds;
             }
             None => self.entries.push((effect, 1, seconds)),
+        }
+    }
+
+    /// Sets the totals of the effect named `effect` (a checkpoint's); unknown names are ignored.
+    pub fn set(&mut self, effect: &str, calls: u64, seconds: f64) {
+        if let Some(e) = self.entries.iter_mut().find(|e| e.0 == effect) {
+            e.1 = calls;
+            e.2 = seconds;
         }
     }
 

@@ -125,3 +125,15 @@ pub fn strained_configurations(topo: &ClothTopology) -> Vec<(String, Vec<DVec3>)
     }
     configs
 }
+
+/// A run's metrics as JSON without its wall-clock times (total and per effect): what two runs of
+/// the same scene, seed and build must agree on bit for bit.
+pub fn without_clock_times(m: &kes_cloth::output::Metrics) -> serde_json::Value {
+    let mut v = serde_json::to_value(m).unwrap();
+    let map = v.as_object_mut().unwrap();
+    map.remove("wall_time_s");
+    for cost in map["effects"].as_object_mut().unwrap().values_mut() {
+        cost.as_object_mut().unwrap().remove("seconds");
+    }
+    v
+}

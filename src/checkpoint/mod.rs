@@ -1,0 +1,204 @@
+//! Checkpoints: the whole state of a running scene in one file, so that a run stopped (Ctrl-C, a
+//! crash, a time limit) resumes from its last checkpoint and ends exactly, bit for bit, where the
+//! uninterrupted run ends.
+//!
+//! A checkpoint holds the resolved scene (the fabric is read again from its file on resume),
+//! Rapier's world as Rapier serialises it (bodies, colliders, joints, contact manifolds with their
+//! warm-start impulses, islands; the pipelines are workspaces Rapier rebuilds), and every piece of
+//! kes-cloth state that carries from one step to the next: the clock, the node state, the
+//! hysteresis slips, the implicit solve's warm start and totals, the settle tracker, the creep
+//! watch, the motion statistics and the per-effect call counts. It is written as CBOR (exact for every f32 and f64,
+//! NaN included) to a temporary file and renamed over `checkpoint.cbor`, so a run killed while
+//! writing keeps the previous checkpoint.
+
+mod checkpoint_error;
+
+use std::path::{Path, PathBuf};
+
+use bevy_ecs::prelude::*;
+use glam::DVec3;
+use rapier3d::prelude::PhysicsWorld;
+use serde::{Deserialize, Serialize};
+
+pub use checkpoint_error::CheckpointError;
+
+use crate::forces::{FrictionState, Hysteresis};
+use crate::implicit::ImplicitStats;
+use crate::measure::{CreepWatch, Motion, SettleState};
+use crate::scene::SceneFile;
+use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Implicit, Physics};
+
+/// The file a checkpoint is written to, inside a run's output folder.
+pub const CHECKPOINT_FILE: &str = "checkpoint.cbor";
+
+/// Format version; a checkpoint of another version is refused.
+const FORMAT: u32 = 1;
+
+/// Everything needed to continue a run.
+#[derive(Serialize, Deserialize)]
+pub struct Snapshot {
+    format: u32,
+    /// The scene file the run came from (fabric paths resolve against it).
+    pub scene_path: PathBuf,
+    /// The scene as run, overrides applied.
+    pub scene: SceneFile,
+    /// Checkpoint interval of the run (simulated s), kept on resume.
+    pub every_s: Option<f64>,
+    /// Wall-clock time the run had used (s).
+    pub wall_time_s: f64,
+    clock: Clock,
+    physics: PhysicsWorld,
+    positions: Vec<DVec3>,
+    velocities: Vec<DVec3>,
+    friction: Option<FrictionState>,
+    implicit: Option<(Vec<DVec3>, ImplicitStats)>,
+    settle: SettleState,
+    motion: Motion,
+    effect_calls: Vec<(String, u64, f64)>,
+    creep: Option<CreepWatch>,
+}
+
+impl Snapshot {
+    /// Captures the state of `world` with its cloth entity `cloth`.
+    pub fn capture(
+        world: &World,
+        cloth: Entity,
+        scene_path: &Path,
+        scene: &SceneFile,
+        every_s: Option<f64>,
+        wall_time_s: f64,
+    ) -> Result<Self, CheckpointError> {
+        let state = world
+            .get::<ClothState>(cloth)
+            .ok_or(CheckpointError::Missing("cloth state"))?;
+        let ledger = world.resource::<EffectLedger>();
+        Ok(Self {
+            format: FORMAT,
+            scene_path: scene_path.to_path_buf(),
+            scene: scene.clone(),
+            every_s,
+            wall_time_s,
+            clock: *world.resource::<Clock>(),
+            physics: clone_physics(&world.resource::<Physics>().0)?,
+            positions: state.positions.clone(),
+            velocities: state.velocities.clone(),
+            friction: world
+                .get::<Effect<Hysteresis>>(cloth)
+                .map(|h| h.0.friction_state()),
+            implicit: world
+                .get::<Implicit>(cloth)
+                .map(|i| (i.0.warm_start().to_vec(), i.0.stats)),
+            settle: world.resource::<SettleState>().clone(),
+            motion: *world.resource::<Motion>(),
+            effect_calls: ledger
+                .entries
+                .iter()
+                .map(|&(name, calls, seconds)| (name.to_string(), calls, seconds))
+                .collect(),
+            creep: world.get_resource::<CreepWatch>().cloned(),
+        })
+    }
+
+    /// The step the snapshot was taken after.
+    pub fn step(&self) -> u64 {
+        self.clock.step
+    }
+
+    /// Puts the snapshot's state into `world`, freshly spawned from the same scene.
+    pub fn restore(self, world: &mut World, cloth: Entity) -> Result<(), CheckpointError> {
+        let mismatch = CheckpointError::Mismatch;
+        {
+            let mut state = world
+                .get_mut::<ClothState>(cloth)
+                .ok_or(CheckpointError::Missing("cloth state"))?;
+            if state.positions.len() != self.positions.len() {
+                return Err(mismatch("node count"));
+            }
+            state.positions = self.positions;
+            state.velocities = self.velocities;
+        }
+        let restored = match (world.get_mut::<Effect<Hysteresis>>(cloth), &self.friction) {
+            (Some(mut h), Some(f)) => h.0.restore_friction_state(f),
+            (h, f) => h.is_none() && f.is_none(),
+        };
+        if !restored {
+            return Err(mismatch("hysteresis state"));
+        }
+        let restored = match (world.get_mut::<Implicit>(cloth), &self.implicit) {
+            (Some(mut i), Some((dv, stats))) => {
+                i.0.stats = *stats;
+                i.0.restore_warm_start(dv)
+            }
+            (i, s) => i.is_none() && s.is_none(),
+        };
+        if !restored {
+            return Err(mismatch("implicit solver state"));
+        }
+        world.resource_mut::<Physics>().0 = self.physics;
+        *world.resource_mut::<Clock>() = self.clock;
+        *world.resource_mut::<SettleState>() = self.settle;
+        *world.resource_mut::<Motion>() = self.motion;
+        if let Some(creep) = self.creep {
+            world.insert_resource(creep);
+        }
+        let mut ledger = world.resource_mut::<EffectLedger>();
+        for (name, calls, seconds) in &self.effect_calls {
+            ledger.set(name, *calls, *seconds);
+        }
+        Ok(())
+    }
+
+    /// Writes the snapshot to `dir/checkpoint.cbor` (through a temporary file and a rename).
+    pub fn write(&self, dir: &Path) -> Result<PathBuf, CheckpointError> {
+        let path = dir.join(CHECKPOINT_FILE);
+        let partial = dir.join(format!("{CHECKPOINT_FILE}.partial"));
+        let io = |source| CheckpointError::Io {
+            path: path.clone(),
+            source,
+        };
+        std::fs::create_dir_all(dir).map_err(io)?;
+        let file = std::fs::File::create(&partial).map_err(io)?;
+        let mut writer = std::io::BufWriter::new(file);
+        ciborium::into_writer(self, &mut writer).map_err(|e| CheckpointError::Encode {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        std::io::Write::flush(&mut writer).map_err(io)?;
+        drop(writer);
+        std::fs::rename(&partial, &path).map_err(io)?;
+        Ok(path)
+    }
+
+    /// Reads `dir/checkpoint.cbor`.
+    pub fn read(dir: &Path) -> Result<Self, CheckpointError> {
+        let path = dir.join(CHECKPOINT_FILE);
+        let file = std::fs::File::open(&path).map_err(|source| CheckpointError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        let snapshot: Self =
+            ciborium::from_reader(std::io::BufReader::new(file)).map_err(|e| CheckpointError::Decode {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+        if snapshot.format != FORMAT {
+            return Err(CheckpointError::Decode {
+                path,
+                message: format!("format {} (this build reads {FORMAT})", snapshot.format),
+            });
+        }
+        Ok(snapshot)
+    }
+}
+
+/// Rapier's world has no `Clone`; a serialisation round trip copies exactly what a checkpoint
+/// keeps.
+fn clone_physics(physics: &PhysicsWorld) -> Result<PhysicsWorld, CheckpointError> {
+    let mut bytes = Vec::new();
+    let encode = |e: &dyn std::fmt::Display| CheckpointError::Encode {
+        path: PathBuf::from(CHECKPOINT_FILE),
+        message: e.to_string(),
+    };
+    ciborium::into_writer(physics, &mut bytes).map_err(|e| encode(&e))?;
+    ciborium::from_reader(bytes.as_slice()).map_err(|e| encode(&e))
+}

@@ -1,0 +1,182 @@
+//! A run stopped and resumed from its last checkpoint ends exactly where the uninterrupted run
+//! ends; an interrupted run keeps its checkpoint and partial outputs.
+//!
+//! Claims:
+//! 1. Interrupted at an arbitrary step (a timer sets the interrupt flag, as Ctrl-C does) and
+//!    resumed, a run gives bit-identical metrics (wall times aside) and node positions to the
+//!    same run left alone: explicit, and implicit with hysteresis (so the friction slips and the
+//!    solver's warm start are part of the state).
+//! 2. `kes-cloth run --checkpoint-every` stopped by SIGINT exits with 130 and leaves
+//!    `metrics.json` (marked interrupted), `final.obj`, `top.png` and `checkpoint.cbor`;
+//!    `kes-cloth resume` finishes the run.
+//! 3. Resuming without a readable checkpoint is an error naming the file, never a panic.
+
+use std::path::Path;
+use std::process::Command;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use kes_cloth::checkpoint::CHECKPOINT_FILE;
+use kes_cloth::run::{CheckpointPlan, RunOptions, resume, simulate};
+use kes_cloth::scene::Scene;
+
+mod common;
+
+fn out_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("kes-cloth-checkpoint-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
+    for (name, sets) in [
+        ("explicit", vec!["integration.max_time_s=1.0", "seed=2"]),
+        (
+            "implicit_hysteresis",
+            vec![
+                "integration.max_time_s=1.5",
+                "integration.integrator=Implicit",
+                "integration.dt_s=0.002",
+                "effects.hysteresis=true",
+            ],
+        ),
+    ] {
+        let sets: Vec<String> = sets.into_iter().map(String::from).collect();
+        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+        let whole = simulate(&scene, &RunOptions::default());
+
+        let dir = out_dir(name);
+        let flag = Arc::new(AtomicBool::new(false));
+        let timer = {
+            let flag = flag.clone();
+            std::thread::spawn(move || {
+                std::thread::sleep(Duration::from_millis(250));
+                flag.store(true, Ordering::Relaxed);
+            })
+        };
+        let options = RunOptions {
+            checkpoint: Some(CheckpointPlan {
+                dir: dir.clone(),
+                every_s: 0.05,
+            }),
+            interrupt: Some(flag),
+            ..RunOptions::default()
+        };
+        let partial = simulate(&scene, &options);
+        timer.join().unwrap();
+        assert!(
+            partial.metrics.interrupted && partial.metrics.steps < whole.metrics.steps,
+            "{name}: the run must have been stopped early to test anything (stopped at step {} of {})",
+            partial.metrics.steps,
+            whole.metrics.steps
+        );
+        assert!(
+            partial.checkpoint_error.is_none(),
+            "{:?}",
+            partial.checkpoint_error
+        );
+
+        let (_, resumed) = resume(&dir, &RunOptions::default()).unwrap();
+        assert!(!resumed.metrics.interrupted);
+        assert_eq!(
+            common::without_clock_times(&whole.metrics),
+            common::without_clock_times(&resumed.metrics),
+            "{name}: stopped at step {}",
+            partial.metrics.steps
+        );
+        assert!(
+            whole
+                .positions
+                .iter()
+                .zip(&resumed.positions)
+                .all(|(p, q)| p.to_array().map(f64::to_bits) == q.to_array().map(f64::to_bits)),
+            "{name}: positions differ after resuming from step {}",
+            partial.metrics.steps
+        );
+    }
+}
+
+fn kes_cloth() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+}
+
+#[test]
+fn ctrl_c_keeps_the_checkpoint_and_partial_outputs_and_resume_finishes() {
+    let dir = out_dir("sigint");
+    let scene = common::crate_path("scenes/drape_wool.ron");
+    let mut child = kes_cloth()
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "--quiet",
+            "--checkpoint-every",
+            "0.05",
+        ])
+        .args([
+            "--set",
+            "integration.max_time_s=20",
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .spawn()
+        .unwrap();
+    // Wait for the first checkpoint, then interrupt as Ctrl-C would.
+    let checkpoint = dir.join(CHECKPOINT_FILE);
+    for _ in 0..600 {
+        if checkpoint.exists() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert!(checkpoint.exists(), "no checkpoint within 30 s");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "an interrupted run exits with 130");
+    let metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
+    assert_eq!(metrics["interrupted"], true);
+    for file in ["final.obj", "top.png", CHECKPOINT_FILE] {
+        assert!(dir.join(file).exists(), "{file} kept");
+    }
+
+    let resumed = kes_cloth()
+        .args(["resume", dir.to_str().unwrap(), "--quiet"])
+        .status()
+        .unwrap();
+    assert!(resumed.success());
+    let metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
+    assert_eq!(metrics["interrupted"], false);
+    assert_eq!(metrics["settled"], true, "the resumed drape settles");
+}
+
+#[test]
+fn resuming_without_a_readable_checkpoint_is_an_error() {
+    let dir = out_dir("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let missing = kes_cloth()
+        .args(["resume", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!missing.status.success());
+    let text = String::from_utf8_lossy(&missing.stderr);
+    assert!(
+        text.starts_with("error:") && text.contains(CHECKPOINT_FILE),
+        "{text}"
+    );
+
+    std::fs::write(Path::new(&dir).join(CHECKPOINT_FILE), b"not a checkpoint").unwrap();
+    let corrupt = kes_cloth()
+        .args(["resume", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!corrupt.status.success());
+    let text = String::from_utf8_lossy(&corrupt.stderr);
+    assert!(text.contains("not a kes-cloth checkpoint"), "{text}");
+}
