@@ -56,7 +56,7 @@ fn builtin_cloth(scene: &Scene, nodes: usize) -> PhysicsWorld {
         i.internal_pgs_iterations,
     );
     for (col, (shape, _)) in spec.world.colliders.iter().zip(world_shapes(scene)) {
-        add_world_collider(&mut world, shape, col.centre_m, col.friction, 0.0);
+        add_world_collider(&mut world, shape, col.centre_m, col.friction, 0.0, None);
     }
     let n = (nodes as f64).sqrt().round() as usize;
     let sigma = spec.cloth.spacing_m as f32;

@@ -14,7 +14,9 @@ use crate::forces::{
     AirDrag, Bending, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile, LinkCompression,
     LinkDamping, SeedSeparation, Trellising,
 };
-use crate::measure::{CreepWatch, DrapeMeasurement, Motion, Progress, SettleState, measure_drape, project};
+use crate::measure::{
+    CreepWatch, DrapeMeasurement, Motion, Progress, SettleState, WorldColliders, measure_drape, project,
+};
 use crate::output::{
     EffectCost, FailureReport, Metrics, OutputError, TopViewOutline, write_obj, write_top_view,
 };
@@ -230,7 +232,9 @@ fn run_to_end(
             0.0
         },
         max_penetration_m: if positions.iter().all(|p| p.is_finite()) {
-            crate::measure::max_penetration(&crate::scene::spawn::world_shapes(scene), &positions).0
+            let colliders = world.get_resource::<WorldColliders>().map(|c| c.0.clone());
+            let colliders = colliders.unwrap_or_else(|| crate::scene::spawn::world_shapes(scene));
+            crate::measure::max_penetration(&colliders, &positions).0
         } else {
             0.0
         },

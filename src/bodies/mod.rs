@@ -12,5 +12,5 @@ mod world_colliders;
 mod world_settings;
 
 pub use cloth_bodies::{ClothBodies, NodeOptions};
-pub use world_colliders::{WorldShape, add_world_collider};
+pub use world_colliders::{ThrownBody, WorldShape, add_world_collider};
 pub use world_settings::configure_world;

@@ -82,6 +82,7 @@ pub struct ClothBuilder {
     centre: DVec3,
     warp_angle_deg: f64,
     initial_shear_deg: f64,
+    fold_gap: Option<f64>,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
     stretch: StretchModel,
@@ -107,6 +108,7 @@ impl ClothBuilder {
             centre: DVec3::ZERO,
             warp_angle_deg: 0.0,
             initial_shear_deg: 0.0,
+            fold_gap: None,
             node_radius: None,
             perturbation: (0.0, 0),
             stretch: StretchModel::Constraint,
@@ -147,6 +149,13 @@ impl ClothBuilder {
     /// link at its rest length (default 0).
     pub fn initial_shear(mut self, degrees: f64) -> Self {
         self.initial_shear_deg = degrees;
+        self
+    }
+
+    /// Starts the cloth folded flat onto itself across the middle of the warp, the far half
+    /// `gap` (m) above the near half along the cloth's normal (default: flat).
+    pub fn fold(mut self, gap: Option<f64>) -> Self {
+        self.fold_gap = gap;
         self
     }
 
@@ -252,7 +261,19 @@ impl ClothBuilder {
         let shear = self.initial_shear_deg.to_radians();
         let weft = shear.cos() * weft + shear.sin() * warp;
         let origin = self.centre - hu * sigma * warp - hv * sigma * weft;
-        let positions = topology.rest_positions(origin, warp, weft);
+        let mut positions = topology.rest_positions(origin, warp, weft);
+        if let Some(gap) = self.fold_gap {
+            // Crossings beyond the middle of the warp go onto their mirror images, `gap` above.
+            let fold = (nu - 1) / 2;
+            let up = weft.cross(warp).normalize();
+            for (p, &(i, _)) in positions.iter_mut().zip(&topology.grid_coords) {
+                let i = i as usize;
+                if i > fold {
+                    let back = 2.0 * (i - fold) as f64 * sigma;
+                    *p += gap * up - back * warp;
+                }
+            }
+        }
         (topology, positions)
     }
 

@@ -13,7 +13,7 @@ pub use drape::{
     DrapeMeasurement, NODE_PROMINENCE, SkirtMeasurement, measure_drape, measure_skirt, peaks, project,
     union_area,
 };
-pub use motion::{Motion, WorldColliders, link_strains, measure_motion};
+pub use motion::{Motion, MovingColliders, WorldColliders, link_strains, measure_motion};
 pub use penetration::{depth_inside, max_penetration};
 pub use progress::{Progress, report_progress};
 pub use settle::{SettleState, update_settle};

@@ -32,6 +32,11 @@ pub struct Motion {
 #[derive(Resource, Clone, Debug, Default)]
 pub struct WorldColliders(pub Vec<(crate::bodies::WorldShape, DVec3)>);
 
+/// Which of [`WorldColliders`] ride on Rapier bodies: (index, body). Their centres are read
+/// from Rapier each step before the penetration check.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct MovingColliders(pub Vec<(usize, rapier3d::prelude::RigidBodyHandle)>);
+
 /// |l/σ − 1| of every link.
 pub fn link_strains<'a>(
     topology: &'a ClothTopology,
@@ -73,7 +78,8 @@ pub fn measure_motion(
     clock: Res<Clock>,
     mut motion: ResMut<Motion>,
     mut failure: ResMut<Failure>,
-    colliders: Option<Res<WorldColliders>>,
+    mut colliders: Option<ResMut<WorldColliders>>,
+    moving: Option<Res<MovingColliders>>,
     mut cloths: Query<(&ClothNodes, &mut ClothState)>,
 ) {
     for (nodes, mut state) in &mut cloths {
@@ -122,6 +128,13 @@ pub fn measure_motion(
         }
         *motion = now;
         motion.peak_strain = peak.max(motion.max_strain);
+        if let (Some(colliders), Some(moving)) = (colliders.as_mut(), moving.as_ref()) {
+            for &(k, body) in &moving.0 {
+                if let (Some(b), Some(entry)) = (physics.0.bodies.get(body), colliders.0.get_mut(k)) {
+                    entry.1 = b.translation().as_dvec3();
+                }
+            }
+        }
         let depth = colliders
             .as_ref()
             .map_or(0.0, |c| super::max_penetration(&c.0, &state.positions).0);

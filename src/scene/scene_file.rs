@@ -76,6 +76,12 @@ pub struct ClothSpec {
     /// collider surfaces: colliders are shrunk by this radius (see `docs/rapier.md`).
     #[serde(default)]
     pub node_radius_m: Option<f64>,
+    /// Start folded flat onto itself across the middle of the warp: the far half lies on the near
+    /// half, `gap_m` above it (m, at least two node radii so the layers do not overlap, at most
+    /// one spacing; default: not folded). The bending springs at the fold start almost closed
+    /// (θ = atan(gap/σ)); the two layers need `effects.self_collision`.
+    #[serde(default)]
+    pub fold_gap_m: Option<f64>,
 }
 
 /// Outline of the flat sample.
@@ -121,6 +127,25 @@ pub struct ColliderSpec {
     /// Coulomb friction coefficient against the cloth (dimensionless, ≥ 0; default 0.5).
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Fixed in place (default), or a free rigid body thrown into the scene.
+    #[serde(default)]
+    pub motion: ColliderMotion,
+}
+
+/// Whether a collider stays put or moves as a rigid body.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum ColliderMotion {
+    /// Fixed in the world (a disk, a table, the floor).
+    #[default]
+    Fixed,
+    /// A dynamic rigid body under gravity, contact and friction, e.g. a ball thrown at the
+    /// cloth. Only `Ball` shapes may move (the penetration check follows their centre).
+    Dynamic {
+        /// Mass (kg), > 0.
+        mass_kg: f64,
+        /// Initial velocity (m/s).
+        velocity_m_per_s: [f64; 3],
+    },
 }
 
 fn default_friction() -> f64 {

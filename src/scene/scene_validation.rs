@@ -1,6 +1,8 @@
 //! Physical and numerical range checks of a scene, each naming the field and the allowed range.
 
-use super::scene_file::{ClothShape, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile};
+use super::scene_file::{
+    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile,
+};
 
 /// A field outside its range: (field path, value, reason).
 pub(crate) type Violation = (String, String, String);
@@ -131,6 +133,23 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         )?;
     }
 
+    if let Some(gap) = c.fold_gap_m {
+        in_closed(
+            "cloth.fold_gap_m",
+            gap,
+            2.0 * radius,
+            c.spacing_m,
+            "m (from two node radii, so the layers start apart, to one spacing)",
+        )?;
+        if !s.effects.self_collision {
+            return Err(violation(
+                "cloth.fold_gap_m",
+                gap,
+                "needs `effects.self_collision: true`: without it the folded layers pass through each other",
+            ));
+        }
+    }
+
     finite3("world.gravity_m_per_s2", s.world.gravity_m_per_s2)?;
     for (i, col) in s.world.colliders.iter().enumerate() {
         let f = |name: &str| format!("world.colliders[{i}].{name}");
@@ -164,6 +183,21 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
                 }
             }
             ColliderShape::Ball { radius_m } => beyond_radius("shape.radius_m", radius_m)?,
+        }
+        if let ColliderMotion::Dynamic {
+            mass_kg,
+            velocity_m_per_s,
+        } = col.motion
+        {
+            if !matches!(col.shape, ColliderShape::Ball { .. }) {
+                return Err(violation(
+                    &f("motion"),
+                    "Dynamic",
+                    "only a `Ball` collider may move (the penetration check follows a ball's centre)",
+                ));
+            }
+            in_open_closed(&f("motion.mass_kg"), mass_kg, 0.0, 1e4, "kg")?;
+            finite3(&f("motion.velocity_m_per_s"), velocity_m_per_s)?;
         }
     }
 

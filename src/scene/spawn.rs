@@ -6,12 +6,12 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 use rapier3d::prelude::{PhysicsWorld, RigidBodyBuilder};
 
-use super::{ClothShape, ColliderShape, IntegrationSpec, IntegratorSpec, Scene};
-use crate::bodies::{WorldShape, add_world_collider, configure_world};
+use super::{ClothShape, ColliderMotion, ColliderShape, IntegrationSpec, IntegratorSpec, Scene};
+use crate::bodies::{ThrownBody, WorldShape, add_world_collider, configure_world};
 use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
 use crate::forces::ClothTopology;
 use crate::implicit::{ImplicitSettings, Integrator};
-use crate::measure::{Motion, SettleState, WorldColliders};
+use crate::measure::{Motion, MovingColliders, SettleState, WorldColliders};
 use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 
 /// The scene's cloth as a [`ClothBuilder`] (fabric, outline, spacing, pose, perturbation,
@@ -31,6 +31,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .spacing(c.spacing_m)
         .pose(DVec3::from_array(c.centre_m), c.warp_angle_deg)
         .initial_shear(c.initial_shear_deg)
+        .fold(c.fold_gap_m)
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)
         .stretch(fx.stretch)
@@ -96,9 +97,22 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         i.internal_pgs_iterations,
     );
     let radius = scene.node_radius();
-    for (col, (shape, _)) in spec.world.colliders.iter().zip(world_shapes(scene)) {
+    let mut moving = Vec::new();
+    for (k, (col, (shape, _))) in spec.world.colliders.iter().zip(world_shapes(scene)).enumerate() {
         let mu = if spec.effects.friction { col.friction } else { 0.0 };
-        add_world_collider(&mut physics, shape, col.centre_m, mu, radius);
+        let thrown = match col.motion {
+            ColliderMotion::Fixed => None,
+            ColliderMotion::Dynamic {
+                mass_kg,
+                velocity_m_per_s,
+            } => Some(ThrownBody {
+                mass: mass_kg,
+                velocity: velocity_m_per_s,
+            }),
+        };
+        if let (_, Some(body)) = add_world_collider(&mut physics, shape, col.centre_m, mu, radius, thrown) {
+            moving.push((k, body));
+        }
     }
     let mut builder = cloth_builder(scene);
     let (topology, flat) = builder.grid();
@@ -111,6 +125,7 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
     let entity = spawn_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);
     world.insert_resource(WorldColliders(world_shapes(scene)));
+    world.insert_resource(MovingColliders(moving));
     (world, entity)
 }
 
