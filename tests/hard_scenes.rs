@@ -4,7 +4,7 @@
 //! stiffest fabric folded flat onto itself (θ → 12° at the fold, self-collision), and a ball
 //! thrown at 10 m/s into a hanging cloth. Each run must end without a failure, with every value
 //! finite, no node centre more than 3 mm inside a collider at the end of any step (the node
-//! balls are 5–10 mm in radius; measured worst 0.6–2.9 mm), link strain within a stated bound at every step, and the
+//! balls are 1–10 mm in radius; measured worst 0–2.9 mm), link strain within a stated bound at every step, and the
 //! cloth at rest (settle window met, kinetic energy decayed below 1e-5 J).
 
 use bevy_ecs::prelude::*;
@@ -69,10 +69,12 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
         ] {
             assert!(v.is_finite(), "{name}: {what} is {v}");
         }
+        // At the end of every step, not only the last (measured worst: 2.9 mm, the rim drop's
+        // impact; node balls are 5–10 mm in radius, the ball's 1 mm against a 2.5 cm ball).
         assert!(
-            m.max_penetration_m < 0.003,
-            "{name}: {:.2} mm inside a collider",
-            m.max_penetration_m * 1e3
+            m.peak_penetration_m < 0.003,
+            "{name}: {:.2} mm inside a collider at the worst step",
+            m.peak_penetration_m * 1e3
         );
         assert!(
             m.peak_strain < strain_bound,
