@@ -81,6 +81,11 @@ pub fn resume(dir: &Path, options: &RunOptions) -> Result<(Scene, RunOutcome), C
     let snapshot = Snapshot::read(dir)?;
     let scene = Scene::from_spec(snapshot.scene.clone(), snapshot.scene_path.clone())
         .map_err(|e| CheckpointError::Scene(Box::new(e)))?;
+    if format!("{:?}", scene.fabric) != snapshot.fabric {
+        return Err(CheckpointError::Mismatch(
+            "the fabric (its file changed since the checkpoint)",
+        ));
+    }
     let (mut world, cloth) = crate::scene::spawn::spawn(&scene);
     let every_s = snapshot.every_s;
     let wall = snapshot.wall_time_s;
@@ -169,9 +174,8 @@ fn run_to_end(
         let due = checkpoint_steps.is_some_and(|n| step % n == 0);
         if let (Some(plan), true) = (&options.checkpoint, stop || due) {
             let wall = wall_before + start.elapsed().as_secs_f64();
-            let written =
-                Snapshot::capture(&world, cloth, &scene.path, &scene.spec, Some(plan.every_s), wall)
-                    .and_then(|s| s.write(&plan.dir));
+            let written = Snapshot::capture(&world, cloth, scene, Some(plan.every_s), wall)
+                .and_then(|s| s.write(&plan.dir));
             if let Err(e) = written {
                 checkpoint_error.get_or_insert(e.to_string());
             }

@@ -119,7 +119,7 @@ enum Command {
     Kes {
         /// The fabric file (RON, KES units).
         fabric: PathBuf,
-        /// Node spacing of the simulated strips (m).
+        /// Node spacing of the simulated strips (m), at most 7.4 mm.
         #[arg(long, value_name = "METRES", default_value_t = 0.005)]
         spacing_m: f64,
         /// Leave the hysteresis effect off: the elastic mean curves alone (no loop).
@@ -160,7 +160,20 @@ fn main() -> ExitCode {
             };
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.spec.name));
             if let Some(n) = repeat {
+                if checkpoint_every.is_some() {
+                    return fail(&"--checkpoint-every applies to a single run, not to --repeat");
+                }
                 return run_repeats(&scene, n, &dir, quiet);
+            }
+            // A checkpoint left in DIR by an earlier run is not this run's to resume.
+            let stale = dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE);
+            if stale.exists()
+                && let Err(e) = std::fs::remove_file(&stale)
+            {
+                return fail(&format!(
+                    "{}: cannot remove the earlier run's checkpoint: {e}",
+                    stale.display()
+                ));
             }
             if let Some(every) = checkpoint_every
                 && !(every.is_finite() && every > 0.0)
@@ -363,10 +376,12 @@ fn run_kes_lab(
         Ok(f) => f,
         Err(e) => return fail(&e),
     };
-    // The strips must resolve 2.5 cm⁻¹ on the circle branch of the curvature and stay a strip.
-    if !(spacing.is_finite() && (0.0005..=0.02).contains(&spacing)) {
+    // The strips must bend to 2.5 cm⁻¹ on the three-crossing circle: K ≤ 2cos(π/8)/σ.
+    let coarsest = 2.0 * (std::f64::consts::PI / 8.0).cos() / kes_cloth::kes_lab::bending_test::MAX_CURVATURE;
+    if !(spacing.is_finite() && (0.0005..=coarsest).contains(&spacing)) {
         return fail(&format!(
-            "--spacing-m = {spacing}: must lie in [0.0005, 0.02] m (the strip's node spacing)"
+            "--spacing-m = {spacing}: must lie in [0.0005, {coarsest:.5}] m: a coarser strip cannot \
+             bend to 2.5 cm⁻¹ on the circle of three crossings (docs/model.md §13)"
         ));
     }
     let report = kes_cloth::kes_lab::run_kes_lab(&fabric, spacing, hysteresis);

@@ -25,7 +25,7 @@ pub use checkpoint_error::CheckpointError;
 use crate::forces::{FrictionState, Hysteresis};
 use crate::implicit::ImplicitStats;
 use crate::measure::{CreepWatch, Motion, SettleState};
-use crate::scene::SceneFile;
+use crate::scene::{Scene, SceneFile};
 use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Implicit, Physics};
 
 /// The file a checkpoint is written to, inside a run's output folder.
@@ -42,6 +42,9 @@ pub struct Snapshot {
     pub scene_path: PathBuf,
     /// The scene as run, overrides applied.
     pub scene: SceneFile,
+    /// The fabric as loaded when the run started (its `Debug` form): a resume whose fabric file
+    /// has changed since is refused.
+    pub fabric: String,
     /// Checkpoint interval of the run (simulated s), kept on resume.
     pub every_s: Option<f64>,
     /// Wall-clock time the run had used (s).
@@ -63,8 +66,7 @@ impl Snapshot {
     pub fn capture(
         world: &World,
         cloth: Entity,
-        scene_path: &Path,
-        scene: &SceneFile,
+        scene: &Scene,
         every_s: Option<f64>,
         wall_time_s: f64,
     ) -> Result<Self, CheckpointError> {
@@ -74,8 +76,10 @@ impl Snapshot {
         let ledger = world.resource::<EffectLedger>();
         Ok(Self {
             format: FORMAT,
-            scene_path: scene_path.to_path_buf(),
-            scene: scene.clone(),
+            // Absolute, so that `resume` works from any working directory.
+            scene_path: std::fs::canonicalize(&scene.path).unwrap_or_else(|_| scene.path.clone()),
+            scene: scene.spec.clone(),
+            fabric: format!("{:?}", scene.fabric),
             every_s,
             wall_time_s,
             clock: *world.resource::<Clock>(),
@@ -111,7 +115,8 @@ impl Snapshot {
             let mut state = world
                 .get_mut::<ClothState>(cloth)
                 .ok_or(CheckpointError::Missing("cloth state"))?;
-            if state.positions.len() != self.positions.len() {
+            let n = state.positions.len();
+            if self.positions.len() != n || self.velocities.len() != n {
                 return Err(mismatch("node count"));
             }
             state.positions = self.positions;

@@ -56,22 +56,6 @@ fn fold_curvature_bend(theta: f64, spacing: f64) -> f64 {
     2.0 * FRAC_PI_4 * FRAC_PI_4 * beta / (t * t * t)
 }
 
-/// Curvature K (m⁻¹) of a spring whose angle has cosine `c` and sine `sin_theta` ≥ 0, with
-/// dK/dc (m⁻¹); dK/dc is infinite for a straight thread (K = 0), where callers must not need it.
-pub(crate) fn curvature_of_cos(c: f64, sin_theta: f64, spacing: f64) -> (f64, f64) {
-    if c < COS_SWITCH {
-        let k = 2.0 / spacing * (0.5 * (1.0 + c)).max(0.0).sqrt();
-        (k, 1.0 / (spacing * spacing * k))
-    } else {
-        let theta = sin_theta.atan2(c).max(MIN_FOLD_ANGLE);
-        let slope = curvature_slope(theta, spacing);
-        (
-            curvature_of_angle(theta, spacing),
-            -slope / sin_theta.max(MIN_FOLD_ANGLE),
-        )
-    }
-}
-
 fn extension_constants(spacing: f64) -> (f64, f64) {
     let pi_8 = std::f64::consts::PI / 8.0;
     (2.0 / spacing * pi_8.cos(), pi_8.sin() / spacing)

@@ -3,9 +3,11 @@
 //! Every bending spring and every trellis corner carries a friction element
 //! ([`HysteresisLaw`]): the spring's moment (or the corner's shear force per length) becomes the
 //! elastic mean value plus a friction value y_f that opposes the motion and reaches ±2HB/2 (or
-//! ±2HG/2, ±2HG5/2) once sliding, so a KES cycle traces the measured loop. The elements act on the
-//! same measures as [`super::Bending`] (curvature K of three crossings) and [`super::Trellising`]
-//! (γ = cos ψ of each corner), with the same area weights σ² and σ²/4.
+//! ±2HG/2, ±2HG5/2) once sliding, so a KES cycle traces the measured loop. Bending elements act on
+//! the signed out-of-plane curvature K_n = (Û + Ŵ)·n/σ (n the cloth's normal at the middle
+//! crossing; it equals [`super::Bending`]'s K for a thread bent out of plane, and unlike K it has a
+//! sign, which friction needs), corners on [`super::Trellising`]'s γ = cos ψ, with the same area
+//! weights σ² and σ²/4 (`docs/model.md` §13).
 //!
 //! The slips are the effect's state: [`ForceGenerator::advance_state`] moves them once per step
 //! to the configuration the step starts from (return mapping) and adds what the sliders
@@ -17,7 +19,6 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::bending::curvature_of_cos;
 use super::element_stiffness::{AngleClamp, add_corner_product, angle_hessian_product};
 use super::trellising::{add_crossing_forces, crossing_gammas};
 use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
@@ -37,18 +38,16 @@ pub struct FrictionState {
     pub dissipated: f64,
 }
 
-/// A bending spring's signed curvature and what its forces need.
+/// A bending spring's out-of-plane curvature and what its forces need.
 struct SpringShape {
-    /// Signed curvature K (m⁻¹): positive when the thread curves towards `normal`; 0 when
-    /// straight or without a normal.
+    /// K_n = (Û + Ŵ)·n/σ (m⁻¹): the curvature of the thread across the cloth, positive towards the
+    /// normal; equal to the three-crossing curvature K of §4 for a thread bent out of the cloth's
+    /// plane on the circle branch; 0 without a normal.
     curvature: f64,
-    /// dK/dc (m⁻¹) with c = cos θ, signed like K; 0 where K is 0.
-    slope: f64,
     /// Unit vectors from the middle particle to the first and to the last.
     u: DVec3,
     w: DVec3,
-    /// The cloth's normal at the middle particle, not normalised (zero without a crossing
-    /// thread).
+    /// The cloth's unit normal at the middle particle (zero without a crossing thread).
     normal: DVec3,
 }
 
@@ -139,7 +138,7 @@ impl Hysteresis {
         self.shear.as_ref()
     }
 
-    /// The signed curvature of bending spring `s` (see [`SpringShape`]).
+    /// The out-of-plane curvature of bending spring `s` (see [`SpringShape`]).
     #[inline(always)]
     fn spring(&self, geometry: &ClothGeometry, s: usize) -> SpringShape {
         let [l1, l2] = self.topology.bend_links[s];
@@ -150,33 +149,17 @@ impl Hysteresis {
             .filter(|&&l| l != NO_LINK)
             .map(|&l| geometry.unit[l as usize])
             .sum::<DVec3>();
-        let normal = (w - u).cross(cross);
-        let mut shape = SpringShape {
-            curvature: 0.0,
-            slope: 0.0,
+        let normal = (w - u).cross(cross).normalize_or_zero();
+        SpringShape {
+            curvature: (u + w).dot(normal) / self.topology.spacing,
             u,
             w,
             normal,
-        };
-        let side = (u + w).dot(normal);
-        if side == 0.0 {
-            return shape;
         }
-        let c = u.dot(w);
-        let sin = if c < std::f64::consts::FRAC_1_SQRT_2 {
-            0.0
-        } else {
-            u.cross(w).length()
-        };
-        let (k, dk_dc) = curvature_of_cos(c, sin, self.topology.spacing);
-        if k > 0.0 && dk_dc.is_finite() {
-            shape.curvature = side.signum() * k;
-            shape.slope = side.signum() * dk_dc;
-        }
-        shape
     }
 
-    /// Adds the forces of bending element `s` carrying moment `m` (N·m/m) at `shape`.
+    /// Adds the forces of bending element `s` carrying moment `m` (N·m/m) at `shape`:
+    /// E' = σ²·m·K_n with K_n = (Û + Ŵ)·n/σ, so dE/da = σ·m·(n − (Û·n)Û)/|U|, likewise for c.
     #[inline(always)]
     fn add_bend_forces(
         &self,
@@ -190,32 +173,13 @@ impl Hysteresis {
             return;
         }
         let [l1, l2] = self.topology.bend_links[s].map(|l| l as usize);
-        let (inv_u, inv_w) = (geometry.inv_length[l1], geometry.inv_length[l2]);
-        let (de_da, de_dc) = if shape.slope != 0.0 {
-            let de_dcos = self.bend_de_dc(m, shape.slope);
-            let (_, grad_a, grad_c) = cos_angle_gradients(shape.u, shape.w, inv_u, inv_w);
-            (de_dcos * grad_a, de_dcos * grad_c)
-        } else {
-            // A straight thread: K ≈ (Û + Ŵ)·n/σ, so dE/da = σ·M·n/|U| and dE/dc = σ·M·n/|W|.
-            let sm = self.topology.spacing * m;
-            let n = shape.normal.normalize_or_zero();
-            (sm * inv_u * n, sm * inv_w * n)
-        };
+        let (u, w, n) = (shape.u, shape.w, shape.normal);
+        let sm = self.topology.spacing * m;
+        let de_da = sm * geometry.inv_length[l1] * (n - u.dot(n) * u);
+        let de_dc = sm * geometry.inv_length[l2] * (n - w.dot(n) * w);
         // Link a→b carries −(force on a) at b; link b→c carries the force on c.
         forces.link[l1] += de_da;
         forces.link[l2] -= de_dc;
-    }
-
-    /// dE/dc (J) of a bending element carrying moment `m` (N·m/m) at curvature slope `dk_dc`
-    /// (both signed with the curvature).
-    #[inline(always)]
-    fn bend_de_dc(&self, m: f64, dk_dc: f64) -> f64 {
-        if m == 0.0 || dk_dc == 0.0 {
-            0.0
-        } else {
-            let sigma = self.topology.spacing;
-            sigma * sigma * m * dk_dc
-        }
     }
 
     fn bend_response(&self, laws: &[HysteresisLaw; 2], s: usize, k: f64) -> FrictionResponse {
@@ -308,8 +272,7 @@ impl ForceGenerator for Hysteresis {
         let (unit, inv, d) = (&geometry.unit, &geometry.inv_length, &dx.link);
         if let Some(laws) = &self.bending {
             // A sticking element acts like a linear bending spring of rigidity k_f (dE/dc = k_f,
-            // exact for an unslipped element on the circle branch); a sliding one only turns its
-            // constant moment with the thread.
+            // exact for an unslipped element bent out of plane on the circle branch).
             for (s, &[l1, l2]) in self.topology.bend_links.iter().enumerate() {
                 let (l1, l2) = (l1 as usize, l2 as usize);
                 let shape = self.spring(geometry, s);
@@ -319,14 +282,12 @@ impl ForceGenerator for Hysteresis {
                 let (u, w) = (shape.u, shape.w);
                 let r = self.bend_response(laws, s, shape.curvature);
                 let law = &laws[self.topology.bend_thread(s) as usize];
-                let f1 = if r.sticking {
-                    law.stick_stiffness
-                } else {
-                    self.bend_de_dc(r.value, shape.slope)
-                };
-                if f1 == 0.0 {
+                // A sliding element's moment is constant; only its direction turns with the
+                // thread, a small term left out of the matrix.
+                if !r.sticking {
                     continue;
                 }
+                let f1 = law.stick_stiffness;
                 let (hu, hw) =
                     angle_hessian_product((u, w), (inv[l1], inv[l2]), (f1, 0.0), (-d[l1], d[l2]), clamp);
                 out.link[l1] -= scale * hu;

@@ -10,7 +10,7 @@
 //! |y_f|·|Δs| (per unit area); over a closed cycle that equals the loop's area (`docs/model.md`
 //! §13).
 //!
-//! * Bending, x = K (m⁻¹, signed: positive towards the side the cloth's normal points to),
+//! * Bending, x = K_n (m⁻¹): the out-of-plane curvature (Û + Ŵ)·n/σ, positive towards the cloth's normal,
 //!   y in N·m/m: h = HB = 2HB/2 at every curvature. Reversal span [`BENDING_REVERSAL_SPAN`].
 //! * Shear, x = γ = sin φ, y in N/m: h = 2HG/2 up to φ = 0.5°, 2HG5/2 from φ = 5°, linear in γ
 //!   between. Reversal span [`SHEAR_REVERSAL_SPAN_DEG`] at the larger of the two.

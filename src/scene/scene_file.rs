@@ -78,7 +78,7 @@ pub struct ClothSpec {
     pub node_radius_m: Option<f64>,
     /// Start folded flat onto itself across the middle of the warp: the far half lies on the near
     /// half, `gap_m` above it (m, at least two node radii so the layers do not overlap, at most
-    /// one spacing; default: not folded). The bending springs at the fold start almost closed
+    /// half a spacing; default: not folded). The bending springs at the fold start almost closed
     /// (θ = atan(gap/σ)); the two layers need `effects.self_collision`.
     #[serde(default)]
     pub fold_gap_m: Option<f64>,

@@ -138,8 +138,9 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             "cloth.fold_gap_m",
             gap,
             2.0 * radius,
-            c.spacing_m,
-            "m (from two node radii, so the layers start apart, to one spacing)",
+            c.spacing_m / 2.0,
+            "m (from two node radii, so the layers start apart, to half a spacing, so the links \
+             round the fold start at most 12 % long)",
         )?;
         if !s.effects.self_collision {
             return Err(violation(

@@ -110,6 +110,15 @@ impl EffectLedger {
         }
     }
 
+    /// Adds `seconds` to `effect`'s time without counting a call (work done for an effect outside
+    /// its force system, e.g. advancing hysteresis state).
+    pub fn add_seconds(&mut self, effect: &'static str, seconds: f64) {
+        match self.entries.iter_mut().find(|e| e.0 == effect) {
+            Some(e) => e.2 += seconds,
+            None => self.entries.push((effect, 0, seconds)),
+        }
+    }
+
     /// Sets the totals of the effect named `effect` (a checkpoint's); unknown names are ignored.
     pub fn set(&mut self, effect: &str, calls: u64, seconds: f64) {
         if let Some(e) = self.entries.iter_mut().find(|e| e.0 == effect) {

@@ -31,7 +31,7 @@ pub fn advance_effect_state<G: ForceGenerator + 'static>(
     for (state, mut effect) in &mut cloths {
         let start = Instant::now();
         effect.0.advance_state(&state.geometry);
-        ledger.record(effect.0.effect(), start.elapsed().as_secs_f64());
+        ledger.add_seconds(effect.0.effect(), start.elapsed().as_secs_f64());
     }
 }
 

@@ -32,6 +32,8 @@ pub struct StudyRow {
     pub metrics: Metrics,
     /// |DC − DC_reference| (dimensionless), for drapemeter scenes.
     pub dc_error: Option<f64>,
+    /// |corner hang − reference corner hang| (m), for tablecloth scenes.
+    pub hang_error_m: Option<f64>,
     /// RMS distance of this run's nodes from the reference's draped surface (m).
     pub shape_error_m: Option<f64>,
     /// Whether every varied key has the scene's own value (the shipped default).
@@ -98,6 +100,10 @@ pub fn run_study(
                 (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
                 _ => None,
             };
+            let hang_error_m = match (m.hang_corners_m, reference.hang_corners_m) {
+                (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
+                _ => None,
+            };
             let shape_error_m = (m.failure.is_none())
                 .then(|| surface.as_ref().map(|s| s.rms_distance(&outcome.positions)))
                 .flatten();
@@ -108,6 +114,7 @@ pub fn run_study(
                 setting,
                 metrics: m.clone(),
                 dc_error,
+                hang_error_m,
                 shape_error_m,
                 is_default,
             }

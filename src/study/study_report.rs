@@ -25,13 +25,14 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 fn csv_text(study: &Study) -> String {
     let mut s = study.keys.join(",");
     s += ",particles,spacing_m,dt_s,integrator,steps,wall_time_s,settled,settle_time_s,\
-          drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default\n";
+          drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default,\
+          hang_corners_m,skirt_folds,hang_error_m\n";
     for row in &study.rows {
         let m = &row.metrics;
         let values: Vec<&str> = row.setting.iter().map(|(_, v)| v.as_str()).collect();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{}",
+            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{}",
             values.join(","),
             m.particles,
             m.spacing_m,
@@ -47,7 +48,10 @@ fn csv_text(study: &Study) -> String {
             opt(row.shape_error_m, 6),
             m.max_strain,
             m.failure.is_some(),
-            row.is_default
+            row.is_default,
+            opt(m.hang_corners_m, 5),
+            m.skirt_folds.map_or(String::new(), |n| n.to_string()),
+            opt(row.hang_error_m, 5),
         );
     }
     s
@@ -58,7 +62,7 @@ fn markdown(study: &Study) -> String {
     let mut s = format!("# Study of `{}`\n\n", study.scene);
     let _ = writeln!(
         s,
-        "Reference ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}; DC {}, {} nodes, {:.1} s wall.\n",
+        "Reference ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}; {}, {:.1} s wall.\n",
         if study.reference_setting.is_empty() {
             "the scene as shipped".to_string()
         } else {
@@ -68,15 +72,37 @@ fn markdown(study: &Study) -> String {
         r.spacing_m * 1e3,
         r.dt_s * 1e3,
         r.integrator,
-        opt(r.drape_coefficient, 3),
-        r.nodes.map_or("-".into(), |n| n.to_string()),
+        match (r.drape_coefficient, r.hang_corners_m) {
+            (Some(dc), _) => format!(
+                "DC {dc:.3}, {} nodes",
+                r.nodes.map_or("-".into(), |n| n.to_string())
+            ),
+            (None, Some(hang)) => format!(
+                "corners hang {:.1} mm, {} skirt folds",
+                hang * 1e3,
+                r.skirt_folds.map_or("-".into(), |n| n.to_string())
+            ),
+            _ => "no drape or tablecloth measure".to_string(),
+        },
         r.wall_time_s
     );
-    s += "Errors are against the reference: DC error |DC − DC_ref|; shape error is the RMS distance \
-          of the run's nodes from the reference's draped surface. ★ marks the scene's own setting.\n\n";
+    let table = r.drape_coefficient.is_none() && r.hang_corners_m.is_some();
+    s += if table {
+        "Errors are against the reference: hang error |hang − hang_ref| of the four corners below the \
+         table top; shape error is the RMS distance of the run's nodes from the reference's draped \
+         surface. ★ marks the scene's own setting.\n\n"
+    } else {
+        "Errors are against the reference: DC error |DC − DC_ref|; shape error is the RMS distance \
+         of the run's nodes from the reference's draped surface. ★ marks the scene's own setting.\n\n"
+    };
+    let measures = if table {
+        "corner hang (mm) | skirt folds | hang error (mm)"
+    } else {
+        "DC | folds | DC error"
+    };
     let _ = writeln!(
         s,
-        "| {} | nodes | dt (ms) | wall (s) | settled (s) | DC | folds | DC error | shape error (mm) | max strain |",
+        "| {} | nodes | dt (ms) | wall (s) | settled (s) | {measures} | shape error (mm) | max strain |",
         study.keys.join(" | ")
     );
     let _ = writeln!(s, "|{}", "---|".repeat(study.keys.len() + 9));
@@ -107,9 +133,17 @@ fn markdown(study: &Study) -> String {
             m.dt_s * 1e3,
             m.wall_time_s,
             settled,
-            opt(m.drape_coefficient, 3),
-            m.nodes.map_or("-".into(), |n| n.to_string()),
-            opt(row.dc_error, 3),
+            if table {
+                opt(m.hang_corners_m.map(|h| h * 1e3), 1)
+            } else {
+                opt(m.drape_coefficient, 3)
+            },
+            if table { m.skirt_folds } else { m.nodes }.map_or("-".into(), |n| n.to_string()),
+            if table {
+                opt(row.hang_error_m.map(|e| e * 1e3), 1)
+            } else {
+                opt(row.dc_error, 3)
+            },
             opt(row.shape_error_m.map(|e| e * 1e3), 2),
             m.max_strain * 100.0
         );

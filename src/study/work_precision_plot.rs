@@ -54,8 +54,14 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
     let root = BitMapBackend::new(path, (1400, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(700);
+    // Drapemeter scenes are judged by DC, tablecloth scenes by how low their corners hang.
+    let first: (&str, ErrorOf) = if study.rows.iter().any(|r| r.dc_error.is_some()) {
+        ("drape coefficient error |DC − DC_ref|", |r| r.dc_error)
+    } else {
+        ("corner hang error (mm)", |r| r.hang_error_m.map(|e| e * 1e3))
+    };
     let panels: [(_, &str, ErrorOf); 2] = [
-        (left, "drape coefficient error |DC − DC_ref|", |r| r.dc_error),
+        (left, first.0, first.1),
         (right, "shape error, RMS (mm)", |r| {
             r.shape_error_m.map(|e| e * 1e3)
         }),
