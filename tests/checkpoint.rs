@@ -180,3 +180,45 @@ fn resuming_without_a_readable_checkpoint_is_an_error() {
     let text = String::from_utf8_lossy(&corrupt.stderr);
     assert!(text.contains("not a kes-cloth checkpoint"), "{text}");
 }
+
+/// A checkpoint keeps the fabric it ran with: if the fabric file changes before the resume, the
+/// resume is refused (a silent switch of physics mid-run would give a result no run produced).
+#[test]
+fn a_changed_fabric_file_refuses_to_resume() {
+    let dir = out_dir("changed-fabric");
+    std::fs::create_dir_all(&dir).unwrap();
+    let fabric = dir.join("fabric.ron");
+    std::fs::copy(common::crate_path("assets/fabrics/thin_wool.ron"), &fabric).unwrap();
+    let scene_text = std::fs::read_to_string(common::crate_path("scenes/drape_wool.ron"))
+        .unwrap()
+        .replace("../assets/fabrics/thin_wool.ron", "fabric.ron");
+    let scene_path = dir.join("scene.ron");
+    std::fs::write(&scene_path, scene_text).unwrap();
+    let sets = ["integration.max_time_s=0.05".to_string()];
+    let scene = Scene::load(&scene_path, &sets).unwrap();
+    let options = RunOptions {
+        checkpoint: Some(CheckpointPlan {
+            dir: dir.clone(),
+            every_s: 0.025,
+        }),
+        ..RunOptions::default()
+    };
+    simulate(&scene, &options);
+    assert!(resume(&dir, &RunOptions::default()).is_ok(), "unchanged: resumes");
+
+    let text = std::fs::read_to_string(&fabric).unwrap();
+    std::fs::write(
+        &fabric,
+        text.replace("weight_mg_per_cm2: 12.5", "weight_mg_per_cm2: 13.5"),
+    )
+    .unwrap();
+    assert_ne!(
+        std::fs::read_to_string(&fabric).unwrap(),
+        text,
+        "the fabric was edited"
+    );
+    match resume(&dir, &RunOptions::default()) {
+        Err(e) => assert!(e.to_string().contains("fabric"), "{e}"),
+        Ok(_) => panic!("a resume with a changed fabric must be refused"),
+    }
+}

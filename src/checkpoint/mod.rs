@@ -2,7 +2,8 @@
 //! crash, a time limit) resumes from its last checkpoint and ends exactly, bit for bit, where the
 //! uninterrupted run ends.
 //!
-//! A checkpoint holds the resolved scene (the fabric is read again from its file on resume),
+//! A checkpoint holds the resolved scene (the fabric is read again from its file on resume and
+//! must be the one the run started with),
 //! Rapier's world as Rapier serialises it (bodies, colliders, joints, contact manifolds with their
 //! warm-start impulses, islands; the pipelines are workspaces Rapier rebuilds), and every piece of
 //! kes-cloth state that carries from one step to the next: the clock, the node state, the
@@ -24,7 +25,7 @@ pub use checkpoint_error::CheckpointError;
 
 use crate::forces::{FrictionState, Hysteresis};
 use crate::implicit::ImplicitStats;
-use crate::measure::{CreepWatch, Motion, SettleState};
+use crate::measure::{CreepWatch, Motion, MovingColliders, SettleState, WorldColliders};
 use crate::scene::{Scene, SceneFile};
 use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Implicit, Physics};
 
@@ -140,6 +141,24 @@ impl Snapshot {
             return Err(mismatch("implicit solver state"));
         }
         world.resource_mut::<Physics>().0 = self.physics;
+        // Moving colliders' centres as of the snapshot (the penetration check reads them).
+        let moving = world
+            .get_resource::<MovingColliders>()
+            .map(|m| m.0.clone())
+            .unwrap_or_default();
+        for (k, body) in moving {
+            let centre = world
+                .resource::<Physics>()
+                .0
+                .bodies
+                .get(body)
+                .map(|b| b.translation().as_dvec3());
+            if let (Some(centre), Some(mut colliders)) = (centre, world.get_resource_mut::<WorldColliders>())
+                && let Some(entry) = colliders.0.get_mut(k)
+            {
+                entry.1 = centre;
+            }
+        }
         *world.resource_mut::<Clock>() = self.clock;
         *world.resource_mut::<SettleState>() = self.settle;
         *world.resource_mut::<Motion>() = self.motion;
