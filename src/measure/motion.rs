@@ -116,9 +116,11 @@ pub fn measure_motion(
                 // The run loop names the effect pushing hardest on this node.
                 effect: String::from("(runaway)"),
                 message: format!(
-                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; likely cause: \
+                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; likely causes: \
                      dt = {} s is too large for this effect's stiffness when applied explicitly \
-                     (docs/model.md §10); try a smaller integration.dt_s",
+                     (docs/model.md §10; try a smaller integration.dt_s), or a load the links \
+                     cannot carry, such as a body much heavier than the nodes pressing on the \
+                     cloth (Rapier's solver tears the links; scenes/hard/ball_impact.ron)",
                     now.max_speed,
                     now.max_strain * 100.0,
                     clock.dt
