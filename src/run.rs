@@ -56,6 +56,9 @@ pub struct RunOutcome {
     pub positions: Vec<DVec3>,
     /// The drape test's measurement, for scenes with a drapemeter disk (a cylinder).
     pub drape: Option<DrapeMeasurement>,
+    /// Final centre of each of the scene's colliders, in scene order (m): where a thrown ball
+    /// ended up, not where it started.
+    pub collider_centres: Vec<DVec3>,
     /// The first checkpoint that could not be written, if any (the run went on without it).
     pub checkpoint_error: Option<String>,
 }
@@ -210,6 +213,10 @@ fn run_to_end(
         None
     };
     let implicit = world.get::<Implicit>(cloth).map(|i| i.0.stats);
+    let colliders = world
+        .get_resource::<WorldColliders>()
+        .map(|c| c.0.clone())
+        .unwrap_or_else(|| crate::scene::spawn::world_shapes(scene));
     let creep = world
         .get_resource::<CreepWatch>()
         .filter(|_| failure.is_none())
@@ -236,8 +243,6 @@ fn run_to_end(
             0.0
         },
         max_penetration_m: if positions.iter().all(|p| p.is_finite()) {
-            let colliders = world.get_resource::<WorldColliders>().map(|c| c.0.clone());
-            let colliders = colliders.unwrap_or_else(|| crate::scene::spawn::world_shapes(scene));
             crate::measure::max_penetration(&colliders, &positions).0
         } else {
             0.0
@@ -278,6 +283,7 @@ fn run_to_end(
         topology,
         positions,
         drape,
+        collider_centres: colliders.iter().map(|c| c.1).collect(),
         checkpoint_error,
     }
 }
@@ -432,8 +438,9 @@ pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<
             .world
             .colliders
             .iter()
-            .filter_map(|c| {
-                let centre = [c.centre_m[0], c.centre_m[2]];
+            .zip(&outcome.collider_centres)
+            .filter_map(|(c, at)| {
+                let centre = [at.x, at.z];
                 match c.shape {
                     ColliderShape::Cylinder { radius_m, .. } => Some(TopViewOutline::Circle {
                         centre,

@@ -91,6 +91,27 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
     }
 }
 
+/// Regression (`top.png` drew the thrown ball where it started): the outcome reports each
+/// collider where it ended. The ball thrown down at the hanging cloth is deflected off it and
+/// falls (the scene has no floor; measured: 4.9 m below its start after 1.5 s), so it must be
+/// reported well below where it started, not at its start.
+#[test]
+fn thrown_ball_is_reported_where_it_came_to_rest() {
+    let scene = Scene::load(common::crate_path("scenes/hard/ball_impact.ron"), &[]).unwrap();
+    let outcome = simulate(&scene, &RunOptions::default());
+    let start: Vec<f64> = scene.spec.world.colliders.iter().map(|c| c.centre_m[1]).collect();
+    assert_eq!(outcome.collider_centres.len(), start.len());
+    let ball = scene
+        .spec
+        .world
+        .colliders
+        .iter()
+        .position(|c| c.name == "ball")
+        .unwrap();
+    let dropped = start[ball] - outcome.collider_centres[ball].y;
+    assert!(dropped > 1.0, "the ball is reported {dropped} m below its start");
+}
+
 const HANGING: &str = "scenes/hard/hanging_damped.ron";
 
 /// Total energy (J): kinetic, gravitational (y up) and every elastic effect's.
