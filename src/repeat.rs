@@ -1,5 +1,7 @@
 //! Repeat runs, like a laboratory: the same scene with seeds 0..N−1 of the initial
 //! perturbation, on all cores, summarised as the modal node count and the mean and spread of DC.
+//! Optionally each run also shifts the node lattice against the cloth's outline, so the spread
+//! includes where the grid happens to fall (`docs/accuracy.md`).
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -26,18 +28,38 @@ pub struct RepeatSummary {
     pub dc_mean: Option<f64>,
     /// Sample standard deviation of DC (0 for a single run).
     pub dc_std: Option<f64>,
+    /// Lattice offset of each run (m, along warp and weft).
+    pub lattice_offsets_m: Vec<[f64; 2]>,
+}
+
+/// The scenes of `n` repeats of `scene`: run k has seed k and, if `placements`, the k-th lattice
+/// offset of [`placement_offset`] (run 0 keeps the scene's own lattice).
+pub fn repeat_scenes(scene: &Scene, n: usize, placements: bool) -> Vec<Scene> {
+    (0..n)
+        .map(|k| {
+            let mut run = scene.clone();
+            run.spec.seed = k as u64;
+            if placements && k > 0 {
+                run.spec.cloth.lattice_offset_m = placement_offset(k, run.spec.cloth.spacing_m);
+            }
+            run
+        })
+        .collect()
+}
+
+/// The k-th lattice offset (m) of a low-discrepancy (R2) sequence over the square of side
+/// `spacing` (m) centred on zero; k = 0 gives (0, 0). Successive runs fill the square evenly,
+/// so a few runs already sample near and far placements of the grid against the rim.
+pub fn placement_offset(k: usize, spacing: f64) -> [f64; 2] {
+    // The plastic number's powers (Roberts' R2 sequence).
+    const G: f64 = 1.324_717_957_244_746;
+    let coord = |a: f64| ((0.5 + k as f64 * a).fract() - 0.5) * spacing;
+    [coord(1.0 / G), coord(1.0 / (G * G))]
 }
 
 /// Runs `scene` with seeds 0..n−1 on `threads` threads; outcomes are in seed order.
 pub fn simulate_repeats(scene: &Scene, n: usize, threads: usize) -> Vec<RunOutcome> {
-    let scenes: Vec<Scene> = (0..n)
-        .map(|seed| {
-            let mut run = scene.clone();
-            run.spec.seed = seed as u64;
-            run
-        })
-        .collect();
-    simulate_all(&scenes, threads, |_, _| {})
+    simulate_all(&repeat_scenes(scene, n, false), threads, |_, _| {})
 }
 
 /// Runs every scene, `threads` at a time (each run on one thread); outcomes are in the order of
@@ -105,5 +127,6 @@ pub fn summarise(outcomes: &[RunOutcome]) -> RepeatSummary {
         drape_coefficients: dcs,
         dc_mean,
         dc_std,
+        lattice_offsets_m: outcomes.iter().map(|o| o.metrics.lattice_offset_m).collect(),
     }
 }

@@ -229,6 +229,7 @@ fn run_to_end(
         fabric: scene.fabric.name.clone(),
         particles: topology.particle_count,
         spacing_m: topology.spacing,
+        lattice_offset_m: scene.spec.cloth.lattice_offset_m,
         dt_s: dt,
         steps: clock.step,
         sim_time_s: clock.time,

@@ -97,6 +97,21 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
         kes_cloth::scene::ClothShape::Circle { diameter_m: 0.2 }
     );
     assert_eq!(s.spec.effects.stretch, kes_cloth::scene::StretchModel::Kes);
+    // Regression (`--set cloth.centre_m=(0.005,0.01,0.0)` was refused: tuples are how scene
+    // files write vectors): RON tuples and structs are read like the file's, JSON arrays too.
+    let s = Scene::load(
+        &path,
+        &[
+            "cloth.centre_m=(0.005, 0.01, 0.0)".into(),
+            "integration.settle=(max_speed_m_per_s: 0.002, hold_s: 1.0)".into(),
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.spec.cloth.centre_m, [0.005, 0.01, 0.0]);
+    assert_eq!(s.spec.integration.settle.hold_s, 1.0);
+    assert_eq!(s.spec.integration.settle.max_speed_m_per_s, 0.002);
+    let s = Scene::load(&path, &["cloth.centre_m=[0.0, 0.02, 0.0]".into()]).unwrap();
+    assert_eq!(s.spec.cloth.centre_m, [0.0, 0.02, 0.0]);
     let e = Scene::load(&path, &["integration.dtt=1".into()])
         .unwrap_err()
         .to_string();

@@ -45,7 +45,8 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Override a scene field by its path, e.g. `integration.dt_s=0.0005`,
-        /// `cloth.spacing_m=0.008`, `seed=7`, `effects.stretch=Kes`. Repeatable.
+        /// `cloth.spacing_m=0.008`, `seed=7`, `effects.stretch=Kes`, `cloth.centre_m=(0, 0.02, 0)`
+        /// (values are written as in the scene file; quote them for the shell). Repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// No progress bar and no summary.
@@ -55,6 +56,12 @@ enum Command {
         /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
         #[arg(long, value_name = "N")]
         repeat: Option<usize>,
+        /// With --repeat on a circular cloth: also shift the node lattice against the outline in
+        /// each run (an even spread over ± half a spacing; seed 0 unshifted), so the spread of
+        /// DC and nodes includes where the grid falls against the disk's rim. At 1 cm this
+        /// alone moves DC by up to 0.11 for thin wool (docs/accuracy.md).
+        #[arg(long, requires = "repeat")]
+        placements: bool,
         /// Write `DIR/checkpoint.cbor` every SECONDS of simulated time (and on Ctrl-C), so that
         /// `kes-cloth resume DIR` can continue the run; the resumed run ends exactly where an
         /// uninterrupted one would.
@@ -152,6 +159,7 @@ fn main() -> ExitCode {
             set,
             quiet,
             repeat,
+            placements,
             checkpoint_every,
         } => {
             let scene = match Scene::load(&scene, &set) {
@@ -163,7 +171,7 @@ fn main() -> ExitCode {
                 if checkpoint_every.is_some() {
                     return fail(&"--checkpoint-every applies to a single run, not to --repeat");
                 }
-                return run_repeats(&scene, n, &dir, quiet);
+                return run_repeats(&scene, n, placements, &dir, quiet);
             }
             // A checkpoint left in DIR by an earlier run is not this run's to resume.
             let stale = dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE);
@@ -272,15 +280,24 @@ fn finish_run(scene: &Scene, outcome: &RunOutcome, dir: &std::path::Path, quiet:
     ExitCode::SUCCESS
 }
 
-fn run_repeats(scene: &Scene, n: usize, dir: &std::path::Path, quiet: bool) -> ExitCode {
+fn run_repeats(scene: &Scene, n: usize, placements: bool, dir: &std::path::Path, quiet: bool) -> ExitCode {
     if n == 0 {
         return fail(&"--repeat needs at least 1 run");
+    }
+    if placements
+        && !matches!(
+            scene.spec.cloth.shape,
+            kes_cloth::scene::ClothShape::Circle { .. }
+        )
+    {
+        return fail(&"--placements applies to circular cloths: a rectangle's lattice fills its outline");
     }
     let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
     if !quiet {
         eprintln!("running {n} seeds of {} on {threads} threads...", scene.spec.name);
     }
-    let outcomes = kes_cloth::repeat::simulate_repeats(scene, n, threads);
+    let scenes = kes_cloth::repeat::repeat_scenes(scene, n, placements);
+    let outcomes = kes_cloth::repeat::simulate_all(&scenes, threads, |_, _| {});
     let mut failed = None;
     for (seed, o) in outcomes.iter().enumerate() {
         if let Err(e) = write_outputs(scene, o, &dir.join(format!("seed-{seed}"))) {
@@ -295,8 +312,14 @@ fn run_repeats(scene: &Scene, n: usize, dir: &std::path::Path, quiet: bool) -> E
             } else {
                 "NOT settled".into()
             };
+            let [ou, ov] = m.lattice_offset_m;
+            let lattice = if placements {
+                format!(", lattice shifted ({:.1}, {:.1}) mm", ou * 1e3, ov * 1e3)
+            } else {
+                String::new()
+            };
             println!(
-                "  seed {seed}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
+                "  seed {seed}{lattice}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
                 m.wall_time_s
             );
         }

@@ -82,6 +82,7 @@ pub struct ClothBuilder {
     centre: DVec3,
     warp_angle_deg: f64,
     initial_shear_deg: f64,
+    lattice_offset: [f64; 2],
     fold_gap: Option<f64>,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
@@ -108,6 +109,7 @@ impl ClothBuilder {
             centre: DVec3::ZERO,
             warp_angle_deg: 0.0,
             initial_shear_deg: 0.0,
+            lattice_offset: [0.0; 2],
             fold_gap: None,
             node_radius: None,
             perturbation: (0.0, 0),
@@ -149,6 +151,14 @@ impl ClothBuilder {
     /// link at its rest length (default 0).
     pub fn initial_shear(mut self, degrees: f64) -> Self {
         self.initial_shear_deg = degrees;
+        self
+    }
+
+    /// Shifts a circular cloth's node lattice by `offset` (m, along warp and weft) against its
+    /// outline, which stays centred at the pose (default (0, 0): a node at the centre). Ignored
+    /// for rectangles, whose lattice fills the outline.
+    pub fn lattice_offset(mut self, offset: [f64; 2]) -> Self {
+        self.lattice_offset = offset;
         self
     }
 
@@ -232,7 +242,9 @@ impl ClothBuilder {
     fn grid_size(&self) -> (usize, usize) {
         match self.outline {
             ClothOutline::Circle(d) => {
-                let n = 2 * (d / 2.0 / self.spacing + 1e-9).floor() as usize + 1;
+                // A shifted lattice can reach one node further on one side.
+                let extra = usize::from(self.lattice_offset != [0.0; 2]);
+                let n = 2 * ((d / 2.0 / self.spacing + 1e-9).floor() as usize + extra) + 1;
                 (n, n)
             }
             ClothOutline::Rectangle { warp, weft } => (
@@ -247,12 +259,12 @@ impl ClothBuilder {
         let sigma = self.spacing;
         let (nu, nv) = self.grid_size();
         let (hu, hv) = ((nu - 1) as f64 / 2.0, (nv - 1) as f64 / 2.0);
-        let radius = match self.outline {
-            ClothOutline::Circle(d) => Some(d / 2.0),
-            ClothOutline::Rectangle { .. } => None,
+        let (radius, [ou, ov]) = match self.outline {
+            ClothOutline::Circle(d) => (Some(d / 2.0), self.lattice_offset),
+            ClothOutline::Rectangle { .. } => (None, [0.0; 2]),
         };
         let topology = ClothTopology::from_mask(nu, nv, sigma, |i, j| {
-            let (x, z) = ((i as f64 - hu) * sigma, (j as f64 - hv) * sigma);
+            let (x, z) = ((i as f64 - hu) * sigma + ou, (j as f64 - hv) * sigma + ov);
             radius.is_none_or(|r| x * x + z * z <= r * r * (1.0 + 1e-9))
         });
         let angle = self.warp_angle_deg.to_radians();
@@ -260,7 +272,7 @@ impl ClothBuilder {
         let weft = DVec3::new(angle.sin(), 0.0, angle.cos());
         let shear = self.initial_shear_deg.to_radians();
         let weft = shear.cos() * weft + shear.sin() * warp;
-        let origin = self.centre - hu * sigma * warp - hv * sigma * weft;
+        let origin = self.centre + (ou - hu * sigma) * warp + (ov - hv * sigma) * weft;
         let mut positions = topology.rest_positions(origin, warp, weft);
         if let Some(gap) = self.fold_gap {
             // Crossings beyond the middle of the warp go onto their mirror images, `gap` above.

@@ -42,6 +42,9 @@ pub struct Metrics {
     pub particles: usize,
     /// Node spacing σ (m).
     pub spacing_m: f64,
+    /// Shift of the node lattice against a circular outline, along warp and weft (m; the scene's
+    /// `cloth.lattice_offset_m`).
+    pub lattice_offset_m: [f64; 2],
     /// Time step (s).
     pub dt_s: f64,
     /// Steps run.

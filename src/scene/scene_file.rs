@@ -63,6 +63,12 @@ pub struct ClothSpec {
     /// at their rest length (degrees, within ±60; default 0). For release tests.
     #[serde(default)]
     pub initial_shear_deg: f64,
+    /// Shift of a circular cloth's node lattice against its outline, along warp and weft (m, each
+    /// within ± half the spacing; default (0, 0): a node at the centre). The outline stays where
+    /// it is; which nodes fall inside it, and where they meet the disk's rim, change. For
+    /// measuring how much a result owes to where the grid happens to fall (`docs/accuracy.md`).
+    #[serde(default)]
+    pub lattice_offset_m: [f64; 2],
     /// Amplitude of the seeded random vertical offset of each node (m; default 0). Breaks the
     /// symmetry of a perfectly flat start so repeats can differ, like laboratory repeats.
     #[serde(default)]

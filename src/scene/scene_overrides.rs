@@ -15,10 +15,7 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
     if key.is_empty() {
         return Err("empty KEY".into());
     }
-    // Numbers, booleans, arrays and quoted strings read as JSON; a bare word (an enum variant
-    // such as `Kes`, or a path) as a string.
-    let value: serde_json::Value = serde_json::from_str(raw.trim())
-        .unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
+    let value = parse_value(raw.trim());
     let mut tree = serde_json::to_value(scene).map_err(|e| e.to_string())?;
     let mut node = &mut tree;
     let parts: Vec<&str> = key.split('.').collect();
@@ -28,6 +25,23 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
     }
     *node = value;
     serde_json::from_value(tree).map_err(|e| format!("`{key}` does not accept {}: {e}", raw.trim()))
+}
+
+/// Numbers, booleans, arrays and quoted strings read as JSON; a parenthesised value as RON, the
+/// way scene files write it (`(0.0, 0.01, 0.0)`, `(max_speed_m_per_s: 0.002, hold_s: 1.0)`);
+/// a bare word (an enum variant such as `Kes`, or a path) as a string.
+fn parse_value(raw: &str) -> serde_json::Value {
+    let string = || serde_json::Value::String(raw.to_string());
+    if let Ok(v) = serde_json::from_str(raw) {
+        return v;
+    }
+    if raw.starts_with('(') {
+        return ron::from_str::<ron::Value>(raw)
+            .ok()
+            .and_then(|v| serde_json::to_value(v).ok())
+            .unwrap_or_else(string);
+    }
+    string()
 }
 
 /// The value of the field at `key` (a `--set` path) as JSON, if the scene has it.

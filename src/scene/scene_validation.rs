@@ -122,6 +122,22 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         c.spacing_m / 4.0,
         "m (a quarter of the spacing)",
     )?;
+    for (k, &o) in c.lattice_offset_m.iter().enumerate() {
+        in_closed(
+            &format!("cloth.lattice_offset_m[{k}]"),
+            o,
+            -c.spacing_m / 2.0,
+            c.spacing_m / 2.0,
+            "m (within half a spacing)",
+        )?;
+    }
+    if c.lattice_offset_m != [0.0; 2] && !matches!(c.shape, ClothShape::Circle { .. }) {
+        return Err(violation(
+            "cloth.lattice_offset_m",
+            format!("{:?}", c.lattice_offset_m),
+            "applies to circular cloths only: a rectangle's lattice fills its outline",
+        ));
+    }
     let radius = c.node_radius_m.unwrap_or(c.spacing_m / 2.0);
     if let Some(r) = c.node_radius_m {
         in_open_closed(

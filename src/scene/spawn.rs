@@ -31,6 +31,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .spacing(c.spacing_m)
         .pose(DVec3::from_array(c.centre_m), c.warp_angle_deg)
         .initial_shear(c.initial_shear_deg)
+        .lattice_offset(c.lattice_offset_m)
         .fold(c.fold_gap_m)
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)

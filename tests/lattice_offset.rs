@@ -1,0 +1,111 @@
+//! A circular cloth's node lattice can be shifted against its outline (`cloth.lattice_offset_m`):
+//! the outline stays where it is, every node stays inside it, and the lattice moves by the offset.
+//! Used to measure how much a drape owes to where the grid happens to fall (`docs/accuracy.md`).
+
+use kes_cloth::scene::Scene;
+use kes_cloth::scene::spawn::spawn;
+use kes_cloth::schedule::ClothState;
+
+mod common;
+
+/// Flat node positions (x, z) of `drape_wool` (25.4 cm circle at 1 cm, centred at the origin)
+/// with the given overrides, before any step.
+fn lattice(sets: &[&str]) -> Vec<[f64; 2]> {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+    let (world, cloth) = spawn(&scene);
+    let state = world.entity(cloth).get::<ClothState>().unwrap();
+    state.positions.iter().map(|p| [p.x, p.z]).collect()
+}
+
+#[test]
+fn a_shifted_lattice_stays_inside_the_same_outline() {
+    let (r, sigma) = (0.127, 0.01);
+    let centred = lattice(&[]);
+    // The shipped default: a node at the centre, 505 nodes.
+    assert_eq!(centred.len(), 505);
+    assert!(centred.iter().any(|p| p[0].hypot(p[1]) < 1e-12));
+    for offset in [(0.005, 0.005), (0.0025, 0.0), (-0.004, 0.003)] {
+        let nodes = lattice(&[&format!("cloth.lattice_offset_m=({}, {})", offset.0, offset.1)]);
+        // Inside the outline (to rounding), and the lattice moved by the offset: every node sits
+        // at offset + whole spacings (1e-9 m is float rounding of positions of order 0.1 m).
+        for p in &nodes {
+            assert!(p[0].hypot(p[1]) <= r + 1e-9, "node {p:?} outside the outline");
+            for (c, o) in [(p[0], offset.0), (p[1], offset.1)] {
+                let k = ((c - o) / sigma).round();
+                assert!(
+                    (c - o - k * sigma).abs() < 1e-9,
+                    "node {p:?} not on the shifted lattice"
+                );
+            }
+        }
+        // Same area to within one ring of nodes: |ΔN| ≤ perimeter / σ ≈ 80.
+        let dn = nodes.len() as f64 - centred.len() as f64;
+        assert!(
+            dn.abs() <= 2.0 * std::f64::consts::PI * r / sigma,
+            "{} nodes",
+            nodes.len()
+        );
+        // The outline did not move: the nodes' centroid stays within a quarter spacing of the
+        // centre (a lattice clipped by a circle is nearly symmetric about it).
+        let n = nodes.len() as f64;
+        let (cx, cz) = nodes
+            .iter()
+            .fold((0.0, 0.0), |(x, z), p| (x + p[0] / n, z + p[1] / n));
+        assert!(cx.hypot(cz) < sigma / 4.0, "centroid ({cx}, {cz})");
+    }
+}
+
+#[test]
+fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
+    let e = Scene::load(
+        common::crate_path("scenes/drape_wool.ron"),
+        &["cloth.lattice_offset_m=(0.006, 0.0)".to_string()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("cloth.lattice_offset_m[0]") && e.contains("0.005"),
+        "{e}"
+    );
+    let e = Scene::load(
+        common::crate_path("scenes/tablecloth_wool.ron"),
+        &["cloth.lattice_offset_m=(0.001, 0.0)".to_string()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("circular cloths only"), "{e}");
+}
+
+/// `--repeat N --placements`: run k has seed k and the k-th offset of an even sequence over
+/// ± half a spacing; run 0 keeps the scene's own lattice, and no two runs share a placement.
+#[test]
+fn repeats_with_placements_spread_the_lattice_over_half_a_spacing() {
+    let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[]).unwrap();
+    let sigma = scene.spec.cloth.spacing_m;
+    let runs = kes_cloth::repeat::repeat_scenes(&scene, 10, true);
+    let offsets: Vec<[f64; 2]> = runs.iter().map(|s| s.spec.cloth.lattice_offset_m).collect();
+    assert_eq!(offsets[0], [0.0, 0.0]);
+    for (k, (run, o)) in runs.iter().zip(&offsets).enumerate() {
+        assert_eq!(run.spec.seed, k as u64);
+        assert!(o.iter().all(|c| c.abs() <= sigma / 2.0), "run {k}: {o:?}");
+        for p in &offsets[..k] {
+            // Distinct by at least a tenth of a spacing (the R2 sequence's first ten points are
+            // further apart than that).
+            assert!(
+                (o[0] - p[0]).hypot(o[1] - p[1]) > sigma / 10.0,
+                "{o:?} near {p:?}"
+            );
+        }
+    }
+    // Every quadrant of the placement square is visited.
+    for (sx, sz) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+        assert!(
+            offsets.iter().any(|o| o[0] * sx > 0.0 && o[1] * sz > 0.0),
+            "quadrant ({sx}, {sz})"
+        );
+    }
+    // Without placements every run keeps the scene's lattice.
+    let plain = kes_cloth::repeat::repeat_scenes(&scene, 3, false);
+    assert!(plain.iter().all(|s| s.spec.cloth.lattice_offset_m == [0.0, 0.0]));
+}
