@@ -434,12 +434,21 @@ pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<
         write_obj(dir, &scene.spec.name, &outcome.topology, &outcome.positions)?;
     }
     if out.top_png {
+        // A thrown body that ended beyond the cloth (bounced off, fell away) is left out, so the
+        // picture stays framed on the cloth.
+        let cloth_extent = outcome
+            .positions
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.z.abs()));
         let outlines: Vec<TopViewOutline> = scene
             .spec
             .world
             .colliders
             .iter()
             .zip(&outcome.collider_centres)
+            .filter(|(c, at)| {
+                c.motion == crate::scene::ColliderMotion::Fixed || at.x.abs().max(at.z.abs()) <= cloth_extent
+            })
             .filter_map(|(c, at)| {
                 let centre = [at.x, at.z];
                 match c.shape {

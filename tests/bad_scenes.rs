@@ -112,6 +112,12 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
     assert_eq!(s.spec.integration.settle.max_speed_m_per_s, 0.002);
     let s = Scene::load(&path, &["cloth.centre_m=[0.0, 0.02, 0.0]".into()]).unwrap();
     assert_eq!(s.spec.cloth.centre_m, [0.0, 0.02, 0.0]);
+    // Text that happens to read as RON still reaches a text field as text: the fabric path
+    // `(1, 2)`, valid RON for a list, is looked up as a file (and is missing), not refused.
+    let e = Scene::load(&path, &["fabric.File=(1, 2)".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("(1, 2)") && !e.contains("does not accept"), "{e}");
     let e = Scene::load(&path, &["integration.dtt=1".into()])
         .unwrap_err()
         .to_string();

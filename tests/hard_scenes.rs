@@ -96,7 +96,7 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
 /// falls (the scene has no floor; measured: 4.9 m below its start after 1.5 s), so it must be
 /// reported well below where it started, not at its start.
 #[test]
-fn thrown_ball_is_reported_where_it_came_to_rest() {
+fn thrown_ball_is_reported_where_it_ended() {
     let scene = Scene::load(common::crate_path("scenes/hard/ball_impact.ron"), &[]).unwrap();
     let outcome = simulate(&scene, &RunOptions::default());
     let start: Vec<f64> = scene.spec.world.colliders.iter().map(|c| c.centre_m[1]).collect();

@@ -75,6 +75,13 @@ fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("circular cloths only"), "{e}");
+    let e = Scene::load(
+        common::crate_path("scenes/hard/folded.ron"),
+        &["cloth.lattice_offset_m=(0.001, 0.0)".to_string()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("cloth.fold_gap_m"), "{e}");
 }
 
 /// `--repeat N --placements`: run k has seed k and the k-th offset of an even sequence over

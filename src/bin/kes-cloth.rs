@@ -57,7 +57,7 @@ enum Command {
         #[arg(long, value_name = "N")]
         repeat: Option<usize>,
         /// With --repeat on a circular cloth: also shift the node lattice against the outline in
-        /// each run (an even spread over ± half a spacing; seed 0 unshifted), so the spread of
+        /// each run (an even spread over ± half a spacing; run 0 keeps the scene's lattice), so the spread of
         /// DC and nodes includes where the grid falls against the disk's rim. At 1 cm this
         /// alone moves DC by up to 0.11 for thin wool (docs/accuracy.md).
         #[arg(long, requires = "repeat")]
@@ -296,7 +296,14 @@ fn run_repeats(scene: &Scene, n: usize, placements: bool, dir: &std::path::Path,
     if !quiet {
         eprintln!("running {n} seeds of {} on {threads} threads...", scene.spec.name);
     }
-    let scenes = kes_cloth::repeat::repeat_scenes(scene, n, placements);
+    let mut scenes = Vec::with_capacity(n);
+    for run in kes_cloth::repeat::repeat_scenes(scene, n, placements) {
+        // A shifted lattice is checked like a scene of its own (e.g. pins must still meet nodes).
+        match Scene::from_spec(run.spec, run.path) {
+            Ok(s) => scenes.push(s),
+            Err(e) => return fail(&e),
+        }
+    }
     let outcomes = kes_cloth::repeat::simulate_all(&scenes, threads, |_, _| {});
     let mut failed = None;
     for (seed, o) in outcomes.iter().enumerate() {

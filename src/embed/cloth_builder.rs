@@ -154,8 +154,10 @@ impl ClothBuilder {
         self
     }
 
-    /// Shifts a circular cloth's node lattice by `offset` (m, along warp and weft) against its
-    /// outline, which stays centred at the pose (default (0, 0): a node at the centre). Ignored
+    /// Shifts a circular cloth's node lattice by `offset` (m, along warp and weft, each within
+    /// ± half the spacing: nodes beyond would fall outside the grid) against its outline, which
+    /// stays centred at the pose (default (0, 0): a node at the centre). The grid coordinates
+    /// that [`Self::pin`] takes then count from a lattice one node wider on each side. Ignored
     /// for rectangles, whose lattice fills the outline.
     pub fn lattice_offset(mut self, offset: [f64; 2]) -> Self {
         self.lattice_offset = offset;

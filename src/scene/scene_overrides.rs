@@ -15,16 +15,26 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
     if key.is_empty() {
         return Err("empty KEY".into());
     }
-    let value = parse_value(raw.trim());
-    let mut tree = serde_json::to_value(scene).map_err(|e| e.to_string())?;
-    let mut node = &mut tree;
-    let parts: Vec<&str> = key.split('.').collect();
-    for (depth, part) in parts.iter().enumerate() {
-        node = step_into(node, part)
-            .ok_or_else(|| format!("the scene has no field `{}`", parts[..=depth].join(".")))?;
+    let raw = raw.trim();
+    let with = |value: serde_json::Value| -> Result<SceneFile, String> {
+        let mut tree = serde_json::to_value(scene).map_err(|e| e.to_string())?;
+        let mut node = &mut tree;
+        let parts: Vec<&str> = key.split('.').collect();
+        for (depth, part) in parts.iter().enumerate() {
+            node = step_into(node, part)
+                .ok_or_else(|| format!("the scene has no field `{}`", parts[..=depth].join(".")))?;
+        }
+        *node = value;
+        serde_json::from_value(tree).map_err(|e| format!("`{key}` does not accept {raw}: {e}"))
+    };
+    let value = parse_value(raw);
+    let as_text = serde_json::Value::String(raw.to_string());
+    if value == as_text {
+        return with(value);
     }
-    *node = value;
-    serde_json::from_value(tree).map_err(|e| format!("`{key}` does not accept {}: {e}", raw.trim()))
+    // A value that reads as a number, list or struct but does not fit the field may still be
+    // meant as text (a name such as `(draft)`); the first error is the one to report.
+    with(value).or_else(|e| with(as_text).map_err(|_| e))
 }
 
 /// Numbers, booleans, arrays and quoted strings read as JSON; a parenthesised value as RON, the

@@ -131,6 +131,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             "m (within half a spacing)",
         )?;
     }
+    if c.lattice_offset_m != [0.0; 2] && c.fold_gap_m.is_some() {
+        return Err(violation(
+            "cloth.lattice_offset_m",
+            format!("{:?}", c.lattice_offset_m),
+            "cannot be combined with `cloth.fold_gap_m`: the fold runs through a lattice line",
+        ));
+    }
     if c.lattice_offset_m != [0.0; 2] && !matches!(c.shape, ClothShape::Circle { .. }) {
         return Err(violation(
             "cloth.lattice_offset_m",
