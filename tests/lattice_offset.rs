@@ -56,31 +56,24 @@ fn a_shifted_lattice_stays_inside_the_same_outline() {
     }
 }
 
+/// The error loading `scene` (a path in the crate) with the lattice shifted by `offset`.
+fn refusal(scene: &str, offset: &str) -> String {
+    let set = format!("cloth.lattice_offset_m={offset}");
+    Scene::load(common::crate_path(scene), &[set])
+        .unwrap_err()
+        .to_string()
+}
+
 #[test]
 fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
-    let e = Scene::load(
-        common::crate_path("scenes/drape_wool.ron"),
-        &["cloth.lattice_offset_m=(0.006, 0.0)".to_string()],
-    )
-    .unwrap_err()
-    .to_string();
+    let e = refusal("scenes/drape_wool.ron", "(0.006, 0.0)");
     assert!(
         e.contains("cloth.lattice_offset_m[0]") && e.contains("0.005"),
         "{e}"
     );
-    let e = Scene::load(
-        common::crate_path("scenes/tablecloth_wool.ron"),
-        &["cloth.lattice_offset_m=(0.001, 0.0)".to_string()],
-    )
-    .unwrap_err()
-    .to_string();
+    let e = refusal("scenes/tablecloth_wool.ron", "(0.001, 0.0)");
     assert!(e.contains("circular cloths only"), "{e}");
-    let e = Scene::load(
-        common::crate_path("scenes/hard/folded.ron"),
-        &["cloth.lattice_offset_m=(0.001, 0.0)".to_string()],
-    )
-    .unwrap_err()
-    .to_string();
+    let e = refusal("scenes/hard/folded.ron", "(0.001, 0.0)");
     assert!(e.contains("cloth.fold_gap_m"), "{e}");
 }
 
