@@ -42,10 +42,7 @@ fn bench(c: &mut Criterion) {
     let seed = SeedSeparation::new(topo.clone(), &fabric);
     // The shipped scenes' set: stretch by Rapier joints plus our compression spring, damping.
     let node_mass = fabric.areal_density * SIGMA * SIGMA;
-    let compression = LinkCompression::new(
-        topo.clone(),
-        LinkCompression::stable_stiffness(node_mass, 0.00025),
-    );
+    let compression = LinkCompression::new(topo.clone(), LinkCompression::default_modulus(&fabric, SIGMA));
     let damping = LinkDamping::new(topo.clone(), 150.0, node_mass);
 
     let mut group = c.benchmark_group("force_generators_100x100");

@@ -9,21 +9,35 @@ use kes_cloth::scene::{Scene, StretchModel};
 
 mod common;
 
+/// A compression spring soft enough (100 N/m, limit 0.47 ms) that trellising is thick cotton's
+/// tightest limit at 1 cm, so the tests below probe a KES force.
+const SOFT_COMPRESSION: f64 = 100.0;
+
 fn cotton_limit() -> (f64, &'static str) {
     let fabric = common::shipped_fabric("thick_cotton");
-    let limits = explicit_step_limits(&fabric, 0.01, true, true, false, StretchModel::Constraint);
+    let limits = explicit_step_limits(
+        &fabric,
+        0.01,
+        true,
+        true,
+        false,
+        StretchModel::Constraint,
+        Some(SOFT_COMPRESSION),
+    );
     (limits[0].max_step, limits[0].effect)
 }
 
 fn drape(sets: &[String]) -> Result<kes_cloth::run::RunOutcome, kes_cloth::scene::SceneError> {
-    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), sets)?;
+    let mut sets = sets.to_vec();
+    sets.push(format!("effects.compression_modulus_n_per_m={SOFT_COMPRESSION}"));
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets)?;
     Ok(simulate(&scene, &RunOptions::default()))
 }
 
 #[test]
 fn the_guard_names_the_effect_and_the_step_it_needs() {
     let (limit, effect) = cotton_limit();
-    assert_eq!(effect, "trellising", "thick cotton's tightest explicit limit");
+    assert_eq!(effect, "trellising", "thick cotton's tightest explicit KES limit");
     // Trellising: k = 4G with G = 3 gf/cm/deg = 168.5 N/m/rad, m = 35 mg: ω = 4.39e3 1/s.
     assert!((limit - 3.64e-4).abs() < 0.02e-4, "limit {limit} s");
     let Err(err) = drape(&[format!("integration.dt_s={}", 2.0 * limit)]) else {
@@ -39,8 +53,27 @@ fn the_guard_names_the_effect_and_the_step_it_needs() {
     ] {
         assert!(text.contains(needle), "`{needle}` missing from: {text}");
     }
-    // The shipped step passes the guard.
-    assert!(0.00025 < limit);
+}
+
+/// With its default compression spring (100·π²·B/σ², `docs/model.md` §9) thick cotton at 1 cm is
+/// limited by that spring: B = 1.2 gf·cm²/cm = 1.177e-4 N·m gives 1,161 N/m, k = 4·1,161 N/m per
+/// node of 35 mg, ω = 1.152e4 1/s and 1.6/ω = 0.1389 ms. The shipped drape's 0.125 ms passes;
+/// the 0.25 ms it used before the spring had a fixed modulus is refused.
+#[test]
+fn the_default_compression_spring_sets_thick_cottons_step_at_one_centimetre() {
+    let fabric = common::shipped_fabric("thick_cotton");
+    let limits = explicit_step_limits(&fabric, 0.01, true, true, false, StretchModel::Constraint, None);
+    assert_eq!(limits[0].effect, "compression");
+    assert!(
+        (limits[0].max_step - 1.389e-4).abs() < 0.002e-4,
+        "limit {} s",
+        limits[0].max_step
+    );
+    let path = common::crate_path("scenes/drape_cotton.ron");
+    let shipped = Scene::load(&path, &[]).unwrap();
+    assert!(shipped.spec.integration.dt_s <= limits[0].max_step);
+    let refused = Scene::load(&path, &["integration.dt_s=0.00025".to_string()]).unwrap_err();
+    assert!(refused.to_string().contains("compression"), "{refused}");
 }
 
 #[test]

@@ -30,7 +30,6 @@ const NU: usize = 7;
 const NV: usize = 5;
 
 fn elastic_generators(topo: &Arc<ClothTopology>, fabric: &Fabric) -> Vec<Box<dyn ForceGenerator>> {
-    let node_mass = fabric.areal_density * SIGMA * SIGMA;
     vec![
         Box::new(Bending::new(topo.clone(), fabric)),
         Box::new(Trellising::new(topo.clone(), fabric)),
@@ -38,7 +37,7 @@ fn elastic_generators(topo: &Arc<ClothTopology>, fabric: &Fabric) -> Vec<Box<dyn
         Box::new(KesTensile::new(topo.clone(), fabric)),
         Box::new(LinkCompression::new(
             topo.clone(),
-            LinkCompression::stable_stiffness(node_mass, 2.5e-4),
+            LinkCompression::default_modulus(fabric, SIGMA),
         )),
     ]
 }

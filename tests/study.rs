@@ -24,7 +24,7 @@ fn the_grid_is_the_product_of_the_varied_values() {
     let plan = StudyPlan {
         vary: vec![
             "cloth.spacing_m=0.01,0.0075".parse::<Vary>().unwrap(),
-            "integration.dt_s=0.0005,0.00025,0.000125"
+            "integration.dt_s=0.00035,0.00025,0.000125"
                 .parse::<Vary>()
                 .unwrap(),
         ],
@@ -45,7 +45,7 @@ fn the_grid_is_the_product_of_the_varied_values() {
 fn a_small_study_writes_its_table_and_diagram() {
     let scene = common::crate_path("scenes/drape_wool.ron");
     let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.0005,0.00025".parse::<Vary>().unwrap()],
+        vary: vec!["integration.dt_s=0.00035,0.00025".parse::<Vary>().unwrap()],
         reference: vec!["integration.dt_s=0.000125".into()],
     };
     let base = vec!["integration.max_time_s=0.1".to_string()];
@@ -79,7 +79,7 @@ fn a_small_study_writes_its_table_and_diagram() {
 fn a_tablecloth_study_reports_the_corner_hang_error() {
     let scene = common::crate_path("scenes/tablecloth_wool.ron");
     let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.0005,0.00025".parse::<Vary>().unwrap()],
+        vary: vec!["integration.dt_s=0.00035,0.00025".parse::<Vary>().unwrap()],
         reference: vec!["integration.dt_s=0.000125".into()],
     };
     let base = vec!["integration.max_time_s=0.15".to_string()];

@@ -87,6 +87,7 @@ pub struct ClothBuilder {
     node_radius: Option<f64>,
     perturbation: (f64, u64),
     stretch: StretchModel,
+    compression_modulus: Option<f64>,
     bending: bool,
     trellising: bool,
     damping: Option<f64>,
@@ -114,6 +115,7 @@ impl ClothBuilder {
             node_radius: None,
             perturbation: (0.0, 0),
             stretch: StretchModel::Constraint,
+            compression_modulus: None,
             bending: true,
             trellising: true,
             damping: Some(150.0),
@@ -186,6 +188,13 @@ impl ClothBuilder {
     /// How the threads resist stretch.
     pub fn stretch(mut self, model: StretchModel) -> Self {
         self.stretch = model;
+        self
+    }
+
+    /// With stretch as a constraint, the link compression spring's in-plane modulus (N/m; each
+    /// link's stiffness), or `None` (default) for [`LinkCompression::default_modulus`].
+    pub fn compression_modulus(mut self, modulus: Option<f64>) -> Self {
+        self.compression_modulus = modulus;
         self
     }
 
@@ -291,8 +300,7 @@ impl ClothBuilder {
         (topology, positions)
     }
 
-    /// Adds the cloth's bodies, joints and pins to `world` (whose `integration_parameters.dt`
-    /// must already be the step you will use: the compression spring is sized from it).
+    /// Adds the cloth's bodies, joints and pins to `world`.
     pub fn build_parts(self, world: &mut PhysicsWorld) -> ClothParts {
         let (topology, mut positions) = self.grid();
         let topology = Arc::new(topology);
@@ -323,7 +331,6 @@ impl ClothBuilder {
                 world.insert_impulse_joint(pin.body, bodies.handles[node], joint);
             }
         }
-        let dt = world.integration_parameters.dt as f64;
         let fabric = &self.fabric;
         let t = &topology;
         ClothParts {
@@ -333,16 +340,10 @@ impl ClothBuilder {
                 .then(|| SeedSeparation::new(t.clone(), fabric)),
             stretch_kes: (self.stretch == StretchModel::Kes).then(|| KesTensile::new(t.clone(), fabric)),
             compression: (self.stretch == StretchModel::Constraint).then(|| {
-                // Explicitly, the stiffest spring the step allows; implicitly, the same spring as
-                // an explicit run at the reference step, so both integrate one model.
-                let sizing_step = match self.integrator {
-                    Integrator::Explicit => dt,
-                    Integrator::Implicit(_) => dt.min(LinkCompression::REFERENCE_STEP),
-                };
-                LinkCompression::new(
-                    t.clone(),
-                    LinkCompression::stable_stiffness(node_mass, sizing_step),
-                )
+                let modulus = self
+                    .compression_modulus
+                    .unwrap_or_else(|| LinkCompression::default_modulus(fabric, sigma));
+                LinkCompression::new(t.clone(), modulus)
             }),
             damping: self
                 .damping

@@ -12,13 +12,16 @@
 //! * with hysteresis, a sticking friction element adds its stick stiffness k_f to B (bending) and
 //!   to G (trellising), [`crate::material::HysteresisLaw`];
 //! * stretch by the KES law, k = 4·T'(EMT) = 4·n·T_m/EMT; by the seed's law, k = 4·(4·T_m/EMT);
+//! * link compression (stretch as a constraint) of modulus E (N/m, one link's stiffness), k = 4·E
+//!   (the alternating mode along a thread);
 //!
 //! and ω = √(k/m). Symplectic Euler's own limit is ω·dt = 2, but near it the highest modes are
 //! barely damped and contact and joints add stiffness: thick cotton at 1 cm (trellising,
 //! 2/ω = 0.46 ms) settles at 0.35 ms (ω·dt = 1.54), still moves at 0.8 m/s after 3 s at 0.41 ms
 //! (ω·dt = 1.8) and diverges at 1.37 ms. The limit used is therefore ω·dt ≤ [`MAX_OMEGA_DT`].
-//! The compression spring and link damping are sized from the step itself.
+//! Link damping is checked on its own (rate·dt < 1/4, `scene::scene_validation`).
 
+use super::LinkCompression;
 use crate::material::{Fabric, HysteresisLaw, Thread};
 use crate::scene::StretchModel;
 
@@ -35,7 +38,8 @@ pub struct StepLimit {
 }
 
 /// The explicit step limit of every listed effect for `fabric` at node spacing `spacing` (m),
-/// tightest first.
+/// tightest first. `compression_modulus` (N/m) is the link compression spring's when stretch is a
+/// constraint, `None` for [`LinkCompression::default_modulus`].
 pub fn explicit_step_limits(
     fabric: &Fabric,
     spacing: f64,
@@ -43,6 +47,7 @@ pub fn explicit_step_limits(
     trellising: bool,
     hysteresis: bool,
     stretch: StretchModel,
+    compression_modulus: Option<f64>,
 ) -> Vec<StepLimit> {
     let mass = fabric.areal_density * spacing * spacing;
     let limit = |effect, stiffness: f64| StepLimit {
@@ -81,7 +86,11 @@ pub fn explicit_step_limits(
             .fold(0.0, f64::max)
     };
     match stretch {
-        StretchModel::Constraint => {}
+        StretchModel::Constraint => {
+            let modulus =
+                compression_modulus.unwrap_or_else(|| LinkCompression::default_modulus(fabric, spacing));
+            limits.push(limit("compression", 4.0 * modulus));
+        }
         StretchModel::Kes => limits.push(limit(
             "stretch_kes",
             4.0 * tensile(&|law| law.stiffness(law.strain_at_max_load)),

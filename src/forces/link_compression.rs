@@ -2,17 +2,23 @@
 //!
 //! Rapier's rope joints hold a link at most σ long but let it shorten freely, and a cloth whose
 //! links can collapse crumples in its own plane instead of folding out of it (measured on the
-//! drape test: links shortened by up to 22 %). Woven threads resist shortening until they
-//! buckle, which the bending springs represent; this one-sided spring,
-//! E = ½·k·(σ − r)² for r < σ, keeps links near their length meanwhile.
-//! k is chosen by the caller from the time step (the stiffest spring that stays stable when
-//! applied explicitly, see `docs/model.md`), so it is a numerical device, not a KES quantity.
+//! drape test: links shortened by up to 22 %). A woven fabric barely shortens in its plane: it
+//! buckles out of it, which the bending springs represent. This one-sided spring,
+//! E = ½·k·(σ − r)² for r < σ, makes shortening cost more than buckling: by default its in-plane
+//! modulus is [`BUCKLING_MARGIN`] times the Euler load of the shortest buckle the lattice can
+//! form, so a compressed link folds before it shortens by 1/[`BUCKLING_MARGIN`]
+//! (`docs/model.md` §9). The modulus depends on the fabric and the spacing, never on the step.
 
 use std::sync::Arc;
 
 use glam::DVec3;
 
 use super::element_stiffness::add_link_spring_products;
+use crate::material::{Fabric, Thread};
+
+/// How many times the Euler buckling load of a one-spacing strip the default compression
+/// modulus is (dimensionless): a link buckles before it shortens by 1 % (`docs/model.md` §9).
+pub const BUCKLING_MARGIN: f64 = 100.0;
 use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
 
 /// One-sided compression springs on every thread link.
@@ -29,17 +35,17 @@ impl LinkCompression {
         Self { topology, stiffness }
     }
 
-    /// The step (s) at which the shipped explicit scenes size the spring: an implicit run with a
-    /// longer step keeps this stiffness, so it integrates the same model.
-    pub const REFERENCE_STEP: f64 = 2.5e-4;
-
-    /// A per-link stiffness that explicit stepping at `dt` (s) keeps stable for nodes of mass
-    /// `node_mass` (kg), leaving room for the other forces: along one thread the fastest
-    /// (alternating) mode of a chain of springs k has ω² = 4k/m, and symplectic Euler needs
-    /// ω·dt < 2; k = m/(4·dt²) gives ω·dt = 1 (measured: links then shorten by at most 3 % on
-    /// the shipped scenes; with m/(6·dt²), 3.8 % on the cotton tablecloth).
-    pub fn stable_stiffness(node_mass: f64, dt: f64) -> f64 {
-        node_mass / (4.0 * dt * dt)
+    /// The default in-plane modulus (N/m, which is also each link's stiffness k in a square
+    /// lattice) for `fabric` at spacing `spacing` (m): C·π²·B/σ², C = [`BUCKLING_MARGIN`], B the
+    /// larger of warp and weft bending rigidity (N·m). π²·B/σ² is the load per unit width
+    /// (N/m) at which a strip one spacing long buckles; measured on the drape test, the drape
+    /// coefficient stops depending on the modulus from about this value up (`docs/model.md` §9).
+    pub fn default_modulus(fabric: &Fabric, spacing: f64) -> f64 {
+        let rigidity = fabric
+            .bending(Thread::Warp)
+            .rigidity
+            .max(fabric.bending(Thread::Weft).rigidity);
+        BUCKLING_MARGIN * std::f64::consts::PI.powi(2) * rigidity / (spacing * spacing)
     }
 }
 

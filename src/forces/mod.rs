@@ -44,7 +44,7 @@ pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
 pub use hysteresis::{FrictionState, Hysteresis};
 pub use kes_tensile::KesTensile;
-pub use link_compression::LinkCompression;
+pub use link_compression::{BUCKLING_MARGIN, LinkCompression};
 pub use link_damping::LinkDamping;
 pub use perturbation::Perturbation;
 pub use seed_separation::SeedSeparation;

@@ -10,7 +10,7 @@ use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, P
 /// Conjugate-gradient settings of the implicit solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImplicitSettings {
-    /// Most operator products per step (default 100). A solve stopped early still returns a
+    /// Most operator products per step (default 200). A solve stopped early still returns a
     /// velocity change that reduces the residual; [`ImplicitStats`] counts how often it happens.
     pub max_iterations: usize,
     /// Relative residual |b − A·Δv|/|b| at which a solve stops (dimensionless; default 1e-3).
@@ -20,7 +20,7 @@ pub struct ImplicitSettings {
 impl Default for ImplicitSettings {
     fn default() -> Self {
         Self {
-            max_iterations: 100,
+            max_iterations: 200,
             tolerance: 1e-3,
         }
     }

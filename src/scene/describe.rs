@@ -2,7 +2,8 @@
 
 use std::fmt::Write as _;
 
-use super::{Scene, spawn::cloth_grid};
+use super::{Scene, StretchModel, spawn::cloth_grid};
+use crate::forces::{BUCKLING_MARGIN, LinkCompression, explicit_step_limits};
 use crate::material::Thread;
 
 /// A multi-line description of the validated scene and its fabric in SI units.
@@ -56,6 +57,32 @@ pub fn describe(scene: &Scene) -> String {
         );
     }
     let _ = writeln!(out, "effects: {:?}", s.effects);
+    let fx = &s.effects;
+    if fx.stretch == StretchModel::Constraint {
+        let modulus = match fx.compression_modulus_n_per_m {
+            Some(e) => format!("{e} N/m (scene)"),
+            None => format!(
+                "{:.4e} N/m (default: {}·π²·B/σ²)",
+                LinkCompression::default_modulus(f, s.cloth.spacing_m),
+                BUCKLING_MARGIN
+            ),
+        };
+        let _ = writeln!(out, "  link compression modulus {modulus}");
+    }
+    let limits = explicit_step_limits(
+        f,
+        s.cloth.spacing_m,
+        fx.bending,
+        fx.trellising,
+        fx.hysteresis,
+        fx.stretch,
+        fx.compression_modulus_n_per_m,
+    );
+    let listed: Vec<String> = limits
+        .iter()
+        .map(|l| format!("{} {:.3e} s", l.effect, l.max_step))
+        .collect();
+    let _ = writeln!(out, "  largest explicit step per effect: {}", listed.join(", "));
     let i = &s.integration;
     let _ = writeln!(
         out,

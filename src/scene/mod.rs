@@ -168,6 +168,7 @@ fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (String,
         fx.trellising,
         fx.hysteresis,
         fx.stretch,
+        fx.compression_modulus_n_per_m,
     );
     match limits.first() {
         Some(tightest) if i.dt_s > tightest.max_step => Err((

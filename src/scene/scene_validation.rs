@@ -1,7 +1,7 @@
 //! Physical and numerical range checks of a scene, each naming the field and the allowed range.
 
 use super::scene_file::{
-    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile,
+    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile, StretchModel,
 };
 
 /// A field outside its range: (field path, value, reason).
@@ -270,6 +270,16 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1.0,
         "(relative residual)",
     )?;
+    if let Some(modulus) = s.effects.compression_modulus_n_per_m {
+        if s.effects.stretch != StretchModel::Constraint {
+            return Err(violation(
+                "effects.compression_modulus_n_per_m",
+                modulus,
+                "applies only with `stretch: Constraint` (the KES and seed laws resist compression themselves)",
+            ));
+        }
+        in_open_closed("effects.compression_modulus_n_per_m", modulus, 0.0, 1e7, "N/m")?;
+    }
     if let Some(d) = s.effects.damping {
         // Explicit at the step: an interior node has four links, stable while rate·dt < 1/4.
         // Implicitly, any rate is stable.

@@ -36,6 +36,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)
         .stretch(fx.stretch)
+        .compression_modulus(fx.compression_modulus_n_per_m)
         .bending_and_trellising(fx.bending, fx.trellising)
         .damping(fx.damping.map(|d| d.rate_per_s))
         .air_drag(fx.air_drag.map(|a| a.coefficient_n_s_per_m3))
