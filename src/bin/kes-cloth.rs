@@ -110,6 +110,12 @@ enum Command {
         /// Runs at a time [default: all cores].
         #[arg(long, value_name = "N")]
         threads: Option<usize>,
+        /// Run every grid point and the reference N times, run k with seed k and its own
+        /// placement of the node lattice against a circular cloth's outline (as `run --repeat N
+        /// --placements`), and compare means: a single run at 1 cm scatters by ±0.02 in DC from
+        /// where the grid falls alone (docs/accuracy.md §1a).
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        placements: usize,
     },
     /// The virtual KES laboratory: simulate a KES-FB2 bending test and a KES-FB1 shear test on a
     /// strip of a fabric, with the same force generators as every scene, and read B, 2HB, G, 2HG
@@ -219,7 +225,15 @@ fn main() -> ExitCode {
             set,
             out,
             threads,
-        } => run_study(&scene, vary, reference, &set, out, threads),
+            placements,
+        } => {
+            let plan = kes_cloth::study::StudyPlan {
+                vary,
+                reference,
+                placements,
+            };
+            run_study(&scene, plan, &set, out, threads)
+        }
         Command::Kes {
             fabric,
             spacing_m,
@@ -360,15 +374,13 @@ fn run_repeats(scene: &Scene, n: usize, placements: bool, dir: &std::path::Path,
 
 fn run_study(
     scene: &std::path::Path,
-    vary: Vec<kes_cloth::study::Vary>,
-    reference: Vec<String>,
+    plan: kes_cloth::study::StudyPlan,
     set: &[String],
     out: Option<PathBuf>,
     threads: Option<usize>,
 ) -> ExitCode {
-    let plan = kes_cloth::study::StudyPlan { vary, reference };
     let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
-    let runs = plan.settings().len() + 1;
+    let runs = (plan.settings().len() + 1) * plan.placements.max(1);
     let bar = indicatif::ProgressBar::new(runs as u64).with_style(
         indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} runs, {elapsed} elapsed")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),

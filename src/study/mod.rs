@@ -20,21 +20,27 @@ pub use study_plan::{StudyPlan, Vary};
 pub use study_report::write_study;
 
 use crate::output::Metrics;
-use crate::repeat::simulate_all;
+use crate::repeat::{repeat_scenes, simulate_all, summarise};
+use crate::run::RunOutcome;
 use crate::scene::{Scene, SceneError};
 
-/// One run of a study.
+/// One grid point of a study.
 #[derive(Clone, Debug)]
 pub struct StudyRow {
     /// The varied keys' values of this run, in `--vary` order.
     pub setting: Vec<(String, String)>,
-    /// Its metrics.
+    /// Its metrics; over several placements, those of the first run with DC, corner hang and
+    /// wall time replaced by their means, nodes by the modal count, strain by the largest,
+    /// `settled` true only if every run settled, and `failure` the first run's that failed.
     pub metrics: Metrics,
-    /// |DC − DC_reference| (dimensionless), for drapemeter scenes.
+    /// Sample standard deviation of DC over the placements (dimensionless; 0 for one run).
+    pub dc_std: Option<f64>,
+    /// |DC − DC_reference| (dimensionless), for drapemeter scenes (means over placements).
     pub dc_error: Option<f64>,
     /// |corner hang − reference corner hang| (m), for tablecloth scenes.
     pub hang_error_m: Option<f64>,
-    /// RMS distance of this run's nodes from the reference's draped surface (m).
+    /// RMS distance of this run's nodes from the reference's draped surface (m; over
+    /// placements, the mean of each run's distance from the reference's first run).
     pub shape_error_m: Option<f64>,
     /// Whether every varied key has the scene's own value (the shipped default).
     pub is_default: bool,
@@ -49,8 +55,12 @@ pub struct Study {
     pub keys: Vec<String>,
     /// The reference's overrides (`KEY=VALUE`).
     pub reference_setting: Vec<String>,
-    /// The reference's metrics.
+    /// The reference's metrics (aggregated over placements as for a row).
     pub reference: Metrics,
+    /// Sample standard deviation of the reference's DC over its placements.
+    pub reference_dc_std: Option<f64>,
+    /// Runs per grid point and for the reference.
+    pub placements: usize,
     /// One row per grid point, in grid order (the last key varies fastest).
     pub rows: Vec<StudyRow>,
 }
@@ -65,22 +75,27 @@ pub fn run_study(
     on_done: impl Fn(usize, usize) + Sync,
 ) -> Result<Study, SceneError> {
     let base_scene = Scene::load(path, base)?;
+    let group = plan.placements.max(1);
     let settings = plan.settings();
-    let mut scenes = Vec::with_capacity(settings.len() + 1);
+    let mut points = Vec::with_capacity(settings.len() + 1);
     for setting in &settings {
         let sets: Vec<String> = base
             .iter()
             .cloned()
             .chain(setting.iter().map(|(k, v)| format!("{k}={v}")))
             .collect();
-        scenes.push(Scene::load(path, &sets)?);
+        points.push(Scene::load(path, &sets)?);
     }
     let reference_sets: Vec<String> = base.iter().chain(&plan.reference).cloned().collect();
     let reference_scene = Scene::load(path, &reference_sets)?;
     // A grid point that is the reference (same resolved scene) is not run twice.
-    let reused = scenes.iter().position(|s| s.spec == reference_scene.spec);
+    let reused = points.iter().position(|s| s.spec == reference_scene.spec);
     if reused.is_none() {
-        scenes.push(reference_scene);
+        points.push(reference_scene);
+    }
+    let mut scenes = Vec::with_capacity(points.len() * group);
+    for point in &points {
+        scenes.extend(placed_runs(point, group)?);
     }
     let total = scenes.len();
     let finished = std::sync::atomic::AtomicUsize::new(0);
@@ -88,14 +103,15 @@ pub fn run_study(
         let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         on_done(done, total);
     });
-    let reference_outcome = &outcomes[reused.unwrap_or(settings.len())];
-    let surface = ReferenceSurface::new(&reference_outcome.topology, &reference_outcome.positions);
-    let reference = reference_outcome.metrics.clone();
+    let groups: Vec<&[RunOutcome]> = outcomes.chunks(group).collect();
+    let reference_runs = groups[reused.unwrap_or(settings.len())];
+    let surface = ReferenceSurface::new(&reference_runs[0].topology, &reference_runs[0].positions);
+    let (reference, reference_dc_std) = aggregate(reference_runs);
     let rows = settings
         .into_iter()
-        .zip(&outcomes)
-        .map(|(setting, outcome)| {
-            let m = &outcome.metrics;
+        .zip(&groups)
+        .map(|(setting, runs)| {
+            let (m, dc_std) = aggregate(runs);
             let dc_error = match (m.drape_coefficient, reference.drape_coefficient) {
                 (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
                 _ => None,
@@ -104,15 +120,19 @@ pub fn run_study(
                 (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
                 _ => None,
             };
-            let shape_error_m = (m.failure.is_none())
-                .then(|| surface.as_ref().map(|s| s.rms_distance(&outcome.positions)))
-                .flatten();
+            let shape_error_m = match (&surface, m.failure.is_none()) {
+                (Some(s), true) => {
+                    Some(runs.iter().map(|o| s.rms_distance(&o.positions)).sum::<f64>() / runs.len() as f64)
+                }
+                _ => None,
+            };
             let is_default = setting
                 .iter()
                 .all(|(k, v)| study_plan::same_value(base_scene.field(k).as_ref(), v));
             StudyRow {
                 setting,
-                metrics: m.clone(),
+                metrics: m,
+                dc_std,
                 dc_error,
                 hang_error_m,
                 shape_error_m,
@@ -125,6 +145,36 @@ pub fn run_study(
         keys: plan.vary.iter().map(|v| v.key.clone()).collect(),
         reference_setting: plan.reference.clone(),
         reference,
+        reference_dc_std,
+        placements: group,
         rows,
     })
+}
+
+/// The runs of one grid point: the scene itself, or `n` > 1 repeats with seeds 0..n−1 and
+/// lattice placements, each validated as a scene of its own (a rectangle refuses an offset).
+fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneError> {
+    if n <= 1 {
+        return Ok(vec![scene.clone()]);
+    }
+    repeat_scenes(scene, n, true)
+        .into_iter()
+        .map(|run| Scene::from_spec(run.spec, run.path))
+        .collect()
+}
+
+/// One grid point's metrics over its runs (see [`StudyRow::metrics`]) and its DC's spread.
+fn aggregate(runs: &[RunOutcome]) -> (Metrics, Option<f64>) {
+    let summary = summarise(runs);
+    let mut m = runs[0].metrics.clone();
+    let n = runs.len() as f64;
+    m.drape_coefficient = summary.dc_mean;
+    m.nodes = summary.modal_nodes;
+    m.wall_time_s = runs.iter().map(|o| o.metrics.wall_time_s).sum::<f64>() / n;
+    m.max_strain = runs.iter().map(|o| o.metrics.max_strain).fold(0.0, f64::max);
+    m.settled = runs.iter().all(|o| o.metrics.settled);
+    m.failure = runs.iter().find_map(|o| o.metrics.failure.clone());
+    let hangs: Vec<f64> = runs.iter().filter_map(|o| o.metrics.hang_corners_m).collect();
+    m.hang_corners_m = (hangs.len() == runs.len()).then(|| hangs.iter().sum::<f64>() / n);
+    (m, summary.dc_std)
 }

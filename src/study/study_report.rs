@@ -18,6 +18,14 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<(), OutputError> {
     plot_work_precision(study, &png).map_err(|e| OutputError::new(&png, e))
 }
 
+/// `0.459 ± 0.020` over several placements, `0.459` for one run.
+fn with_spread(dc: f64, sd: Option<f64>, placements: usize) -> String {
+    match sd {
+        Some(sd) if placements > 1 => format!("{dc:.3} ± {sd:.3}"),
+        _ => format!("{dc:.3}"),
+    }
+}
+
 fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or(String::new(), |v| format!("{v:.digits$}"))
 }
@@ -26,13 +34,13 @@ fn csv_text(study: &Study) -> String {
     let mut s = study.keys.join(",");
     s += ",particles,spacing_m,dt_s,integrator,steps,wall_time_s,settled,settle_time_s,\
           drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default,\
-          hang_corners_m,skirt_folds,hang_error_m\n";
+          hang_corners_m,skirt_folds,hang_error_m,placements,dc_std\n";
     for row in &study.rows {
         let m = &row.metrics;
         let values: Vec<&str> = row.setting.iter().map(|(_, v)| v.as_str()).collect();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{},{},{}",
             values.join(","),
             m.particles,
             m.spacing_m,
@@ -52,6 +60,8 @@ fn csv_text(study: &Study) -> String {
             opt(m.hang_corners_m, 5),
             m.skirt_folds.map_or(String::new(), |n| n.to_string()),
             opt(row.hang_error_m, 5),
+            study.placements,
+            opt(row.dc_std, 4),
         );
     }
     s
@@ -74,7 +84,8 @@ fn markdown(study: &Study) -> String {
         r.integrator,
         match (r.drape_coefficient, r.hang_corners_m) {
             (Some(dc), _) => format!(
-                "DC {dc:.3}, {} nodes",
+                "DC {}, {} nodes",
+                with_spread(dc, study.reference_dc_std, study.placements),
                 r.nodes.map_or("-".into(), |n| n.to_string())
             ),
             (None, Some(hang)) => format!(
@@ -86,6 +97,16 @@ fn markdown(study: &Study) -> String {
         },
         r.wall_time_s
     );
+    if study.placements > 1 {
+        let _ = writeln!(
+            s,
+            "Every row and the reference are means over {} runs (seeds 0–{}, each with its own \
+             placement of the node lattice against the outline): DC mean ± sd, modal node count, \
+             mean wall time per run, largest strain.\n",
+            study.placements,
+            study.placements - 1
+        );
+    }
     let table = r.drape_coefficient.is_none() && r.hang_corners_m.is_some();
     s += if table {
         "Errors are against the reference: hang error |hang − hang_ref| of the four corners below the \
@@ -136,7 +157,8 @@ fn markdown(study: &Study) -> String {
             if table {
                 opt(m.hang_corners_m.map(|h| h * 1e3), 1)
             } else {
-                opt(m.drape_coefficient, 3)
+                m.drape_coefficient
+                    .map_or(String::new(), |dc| with_spread(dc, row.dc_std, study.placements))
             },
             if table { m.skirt_folds } else { m.nodes }.map_or("-".into(), |n| n.to_string()),
             if table {
