@@ -90,10 +90,11 @@ impl Scene {
             path: path.clone(),
             source,
         })?;
-        check_explicit_step(&spec, &fabric).map_err(|(field, value, reason)| SceneError::Invalid {
+        check_explicit_step(&spec, &fabric).map_err(|(limit, reason)| SceneError::StepTooLong {
             path: path.clone(),
-            field,
-            value,
+            dt_s: spec.integration.dt_s,
+            effect: limit.effect,
+            max_step_s: limit.max_step,
             reason,
         })?;
         let scene = Self { path, spec, fabric };
@@ -155,7 +156,7 @@ impl Scene {
 
 /// The stability guard: an explicit step longer than the tightest limit of the scene's effects
 /// (`forces::explicit_step_limits`) is refused, naming the effect and the step it needs.
-fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (String, String, String)> {
+fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (crate::forces::StepLimit, String)> {
     let i = &spec.integration;
     if i.integrator != IntegratorSpec::Explicit || !i.step_guard {
         return Ok(());
@@ -172,8 +173,7 @@ fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (String,
     );
     match limits.first() {
         Some(tightest) if i.dt_s > tightest.max_step => Err((
-            "integration.dt_s".to_string(),
-            i.dt_s.to_string(),
+            *tightest,
             format!(
                 "must lie in (0, {:.3e}] s: explicit {} of this fabric at σ = {} m is stable only \
                  below 1.6/ω = {:.3e} s (docs/model.md §10); use a smaller step, or \

@@ -39,6 +39,20 @@ pub enum SceneError {
         /// The allowed range or rule.
         reason: String,
     },
+    /// The explicit step is longer than the stability guard allows (`docs/model.md` §10).
+    #[error("{}: field `integration.dt_s` = {dt_s}: {reason}", path.display())]
+    StepTooLong {
+        /// The scene file.
+        path: PathBuf,
+        /// The scene's step (s).
+        dt_s: f64,
+        /// The effect with the tightest limit, as scenes and metrics name it.
+        effect: &'static str,
+        /// That effect's largest stable step (s).
+        max_step_s: f64,
+        /// The allowed range, the effect, and the ways out.
+        reason: String,
+    },
     /// The fabric the scene names could not be loaded.
     #[error("{}: field `fabric`: {source}", path.display())]
     Fabric {

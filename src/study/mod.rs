@@ -63,6 +63,20 @@ pub struct Study {
     pub placements: usize,
     /// One row per grid point, in grid order (the last key varies fastest).
     pub rows: Vec<StudyRow>,
+    /// Grid points the stability guard refused (an explicit step too long for the spacing),
+    /// not run.
+    pub refused: Vec<RefusedPoint>,
+}
+
+/// A grid point not run because its explicit step is beyond the stability guard.
+#[derive(Clone, Debug)]
+pub struct RefusedPoint {
+    /// The varied keys' values, in `--vary` order.
+    pub setting: Vec<(String, String)>,
+    /// The effect with the tightest limit.
+    pub effect: &'static str,
+    /// Its largest stable step (s).
+    pub max_step_s: f64,
 }
 
 /// Runs the study of the scene at `path` (with `base` overrides on every run) on `threads`
@@ -76,15 +90,29 @@ pub fn run_study(
 ) -> Result<Study, SceneError> {
     let base_scene = Scene::load(path, base)?;
     let group = plan.placements.max(1);
-    let settings = plan.settings();
-    let mut points = Vec::with_capacity(settings.len() + 1);
-    for setting in &settings {
+    let mut settings = Vec::new();
+    let mut refused = Vec::new();
+    let mut points = Vec::new();
+    for setting in plan.settings() {
         let sets: Vec<String> = base
             .iter()
             .cloned()
             .chain(setting.iter().map(|(k, v)| format!("{k}={v}")))
             .collect();
-        points.push(Scene::load(path, &sets)?);
+        match Scene::load(path, &sets) {
+            Ok(scene) => {
+                points.push(scene);
+                settings.push(setting);
+            }
+            Err(SceneError::StepTooLong {
+                effect, max_step_s, ..
+            }) => refused.push(RefusedPoint {
+                setting,
+                effect,
+                max_step_s,
+            }),
+            Err(e) => return Err(e),
+        }
     }
     let reference_sets: Vec<String> = base.iter().chain(&plan.reference).cloned().collect();
     let reference_scene = Scene::load(path, &reference_sets)?;
@@ -148,6 +176,7 @@ pub fn run_study(
         reference_dc_std,
         placements: group,
         rows,
+        refused,
     })
 }
 

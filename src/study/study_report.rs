@@ -170,5 +170,18 @@ fn markdown(study: &Study) -> String {
             m.max_strain * 100.0
         );
     }
+    if !study.refused.is_empty() {
+        s += "\nNot run, refused by the stability guard (`docs/model.md` §10):\n\n";
+        for p in &study.refused {
+            let setting: Vec<String> = p.setting.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            let _ = writeln!(
+                s,
+                "- {}: explicit {} needs dt ≤ {:.3} ms",
+                setting.join(", "),
+                p.effect,
+                p.max_step_s * 1e3
+            );
+        }
+    }
     s
 }
