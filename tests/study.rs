@@ -6,6 +6,18 @@ use kes_cloth::study::{ReferenceSurface, StudyPlan, Vary};
 
 mod common;
 
+/// Writes `study` into a fresh temporary folder named after `tag` and returns its `study.md`
+/// and `study.csv`, removing the folder again.
+fn written(study: &kes_cloth::study::Study, tag: &str) -> (String, String) {
+    let dir = std::env::temp_dir().join(format!("kes-cloth-study-{tag}-{}", std::process::id()));
+    kes_cloth::study::write_study(study, &dir).unwrap();
+    let md = std::fs::read_to_string(dir.join("study.md")).unwrap();
+    let csv = std::fs::read_to_string(dir.join("study.csv")).unwrap();
+    assert!(dir.join("work_precision.png").exists());
+    std::fs::remove_dir_all(&dir).ok();
+    (md, csv)
+}
+
 /// Points 1 mm above a flat reference sheet (inside its outline) are 1 mm from it (f32
 /// geometry: 1e-6 relative); the sheet's own nodes are at distance 0.
 #[test]
@@ -61,9 +73,7 @@ fn a_small_study_writes_its_table_and_diagram() {
         // a node spacing from the reference.
         assert!(e.is_finite() && e < 0.01, "shape error {e} m");
     }
-    let dir = std::env::temp_dir().join(format!("kes-cloth-study-test-{}", std::process::id()));
-    kes_cloth::study::write_study(&study, &dir).unwrap();
-    let csv = std::fs::read_to_string(dir.join("study.csv")).unwrap();
+    let (_, csv) = written(&study, "test");
     assert_eq!(csv.lines().count(), 3, "{csv}");
     assert!(
         csv.lines()
@@ -71,8 +81,6 @@ fn a_small_study_writes_its_table_and_diagram() {
             .unwrap()
             .starts_with("integration.dt_s,particles")
     );
-    assert!(dir.join("study.md").exists() && dir.join("work_precision.png").exists());
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A tablecloth has no drape coefficient: its study measures how low the corners hang against
@@ -93,21 +101,17 @@ fn a_tablecloth_study_reports_the_corner_hang_error() {
         // 0.15 s into the fall the three runs differ by millimetres, not by the 40 cm cloth.
         assert!(e.is_finite() && e < 0.02, "hang error {e} m");
     }
-    let dir = std::env::temp_dir().join(format!("kes-cloth-study-table-{}", std::process::id()));
-    kes_cloth::study::write_study(&study, &dir).unwrap();
-    let md = std::fs::read_to_string(dir.join("study.md")).unwrap();
+    let (md, csv) = written(&study, "table");
     assert!(
         md.contains("corner hang (mm) | skirt folds | hang error (mm)"),
         "{md}"
     );
-    let csv = std::fs::read_to_string(dir.join("study.csv")).unwrap();
     assert!(
         csv.lines()
             .next()
             .unwrap()
             .contains("hang_corners_m,skirt_folds,hang_error_m")
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// With placements, every grid point and the reference run N times (seed k, lattice placement k)
@@ -134,11 +138,8 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
     );
     assert_eq!(study.placements, 3);
     assert!(study.rows[0].dc_std.is_some() && study.reference_dc_std.is_some());
-    let dir = std::env::temp_dir().join(format!("kes-cloth-study-placed-{}", std::process::id()));
-    kes_cloth::study::write_study(&study, &dir).unwrap();
-    let md = std::fs::read_to_string(dir.join("study.md")).unwrap();
+    let (md, _) = written(&study, "placed");
     assert!(md.contains("means over 3 runs") && md.contains(" ± "), "{md}");
-    std::fs::remove_dir_all(&dir).ok();
 
     let table = common::crate_path("scenes/tablecloth_wool.ron");
     let Err(err) = kes_cloth::study::run_study(&table, &base, &plan, 2, |_, _| {}) else {

@@ -90,6 +90,19 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
             .y_desc(label)
             .label_style(("sans-serif", 14))
             .draw()?;
+        // Every grid point, so points off the curves (another key away from its default, e.g.
+        // where the guard refused the default step at that spacing) are still seen.
+        let grey = RGBColor(150, 150, 150);
+        let all: Vec<(f64, f64)> = study
+            .rows
+            .iter()
+            .filter(|r| r.metrics.failure.is_none())
+            .filter_map(|r| value(r).map(|e| (r.metrics.wall_time_s, e.max(ERROR_FLOOR))))
+            .collect();
+        chart
+            .draw_series(all.iter().map(|&p| Circle::new(p, 6, grey.stroke_width(1))))?
+            .label("every grid point")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, grey.stroke_width(1)));
         for (k, key) in study.keys.iter().enumerate() {
             let colour = Palette99::pick(k).to_rgba();
             let points: Vec<(f64, f64)> = curve(study, k)
