@@ -6,6 +6,15 @@ use kes_cloth::study::{ReferenceSurface, StudyPlan, Vary};
 
 mod common;
 
+/// A plan varying only the step over `steps`, against a 0.125 ms reference.
+fn step_plan(steps: &str, placements: usize) -> StudyPlan {
+    StudyPlan {
+        vary: vec![format!("integration.dt_s={steps}").parse::<Vary>().unwrap()],
+        reference: vec!["integration.dt_s=0.000125".into()],
+        placements,
+    }
+}
+
 /// Writes `study` into a fresh temporary folder named after `tag` and returns its `study.md`
 /// and `study.csv`, removing the folder again.
 fn written(study: &kes_cloth::study::Study, tag: &str) -> (String, String) {
@@ -57,11 +66,7 @@ fn the_grid_is_the_product_of_the_varied_values() {
 #[test]
 fn a_small_study_writes_its_table_and_diagram() {
     let scene = common::crate_path("scenes/drape_wool.ron");
-    let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.00035,0.00025".parse::<Vary>().unwrap()],
-        reference: vec!["integration.dt_s=0.000125".into()],
-        placements: 1,
-    };
+    let plan = step_plan("0.00035,0.00025", 1);
     let base = vec!["integration.max_time_s=0.1".to_string()];
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
     assert_eq!(study.rows.len(), 2);
@@ -88,11 +93,7 @@ fn a_small_study_writes_its_table_and_diagram() {
 #[test]
 fn a_tablecloth_study_reports_the_corner_hang_error() {
     let scene = common::crate_path("scenes/tablecloth_wool.ron");
-    let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.00035,0.00025".parse::<Vary>().unwrap()],
-        reference: vec!["integration.dt_s=0.000125".into()],
-        placements: 1,
-    };
+    let plan = step_plan("0.00035,0.00025", 1);
     let base = vec!["integration.max_time_s=0.15".to_string()];
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
     for row in &study.rows {
@@ -119,11 +120,7 @@ fn a_tablecloth_study_reports_the_corner_hang_error() {
 /// cannot be placed and is refused with the field named.
 #[test]
 fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
-    let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.00025".parse::<Vary>().unwrap()],
-        reference: vec!["integration.dt_s=0.000125".into()],
-        placements: 3,
-    };
+    let plan = step_plan("0.00025", 3);
     let base = vec!["integration.max_time_s=0.05".to_string()];
     let total = std::sync::atomic::AtomicUsize::new(0);
     let scene = common::crate_path("scenes/drape_wool.ron");
@@ -152,11 +149,7 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
 /// rest of the study goes on (thin wool at 1 cm: link compression allows 0.388 ms).
 #[test]
 fn a_study_skips_and_reports_steps_the_guard_refuses() {
-    let plan = StudyPlan {
-        vary: vec!["integration.dt_s=0.0005,0.00025".parse::<Vary>().unwrap()],
-        reference: vec!["integration.dt_s=0.000125".into()],
-        placements: 1,
-    };
+    let plan = step_plan("0.0005,0.00025", 1);
     let base = vec!["integration.max_time_s=0.05".to_string()];
     let scene = common::crate_path("scenes/drape_wool.ron");
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
