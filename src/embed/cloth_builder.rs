@@ -192,7 +192,9 @@ impl ClothBuilder {
     }
 
     /// With stretch as a constraint, the link compression spring's in-plane modulus (N/m; each
-    /// link's stiffness), or `None` (default) for [`LinkCompression::default_modulus`].
+    /// link's stiffness), or `None` (default) for [`LinkCompression::default_modulus`]. The
+    /// builder runs no stability guard: an explicit world step must stay below the limit
+    /// [`crate::forces::explicit_step_limits`] gives (0.139 ms for thick cotton at 1 cm).
     pub fn compression_modulus(mut self, modulus: Option<f64>) -> Self {
         self.compression_modulus = modulus;
         self
@@ -300,7 +302,8 @@ impl ClothBuilder {
         (topology, positions)
     }
 
-    /// Adds the cloth's bodies, joints and pins to `world`.
+    /// Adds the cloth's bodies, joints and pins to `world`. Its step must stay below
+    /// [`crate::forces::explicit_step_limits`] for explicit forces (no guard runs here).
     pub fn build_parts(self, world: &mut PhysicsWorld) -> ClothParts {
         let (topology, mut positions) = self.grid();
         let topology = Arc::new(topology);

@@ -177,8 +177,16 @@ fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (crate::
             format!(
                 "must lie in (0, {:.3e}] s: explicit {} of this fabric at σ = {} m is stable only \
                  below 1.6/ω = {:.3e} s (docs/model.md §10); use a smaller step, or \
-                 `integration.integrator: Implicit`, or `integration.step_guard: false` to run it anyway",
-                tightest.max_step, tightest.effect, spec.cloth.spacing_m, tightest.max_step
+                 `integration.integrator: Implicit`,{} or `integration.step_guard: false` to run it anyway",
+                tightest.max_step,
+                tightest.effect,
+                spec.cloth.spacing_m,
+                tightest.max_step,
+                if tightest.effect == "compression" {
+                    " or a softer `effects.compression_modulus_n_per_m` (docs/model.md §9),"
+                } else {
+                    ""
+                }
             ),
         )),
         _ => Ok(()),

@@ -22,7 +22,7 @@ pub use study_report::write_study;
 use crate::output::Metrics;
 use crate::repeat::{repeat_scenes, simulate_all, summarise};
 use crate::run::RunOutcome;
-use crate::scene::{Scene, SceneError};
+use crate::scene::{ClothShape, Scene, SceneError};
 
 /// One grid point of a study.
 #[derive(Clone, Debug)]
@@ -31,7 +31,9 @@ pub struct StudyRow {
     pub setting: Vec<(String, String)>,
     /// Its metrics; over several placements, those of the first run with DC, corner hang and
     /// wall time replaced by their means, nodes by the modal count, strain by the largest,
-    /// `settled` true only if every run settled, and `failure` the first run's that failed.
+    /// `settled` true only if every run settled (the settle time then the slowest run's), and
+    /// `failure` the first run's that failed. Placements set each run's seed and lattice offset,
+    /// so a `seed` or `cloth.lattice_offset_m` in the grid or in `--set` is overridden.
     pub metrics: Metrics,
     /// Sample standard deviation of DC over the placements (dimensionless; 0 for one run).
     pub dc_std: Option<f64>,
@@ -88,8 +90,29 @@ pub fn run_study(
     threads: usize,
     on_done: impl Fn(usize, usize) + Sync,
 ) -> Result<Study, SceneError> {
-    let base_scene = Scene::load(path, base)?;
     let group = plan.placements.max(1);
+    // The scene as given only names the study and marks the shipped setting; it is not run, so
+    // a step its own spacing would refuse does not stop a study that varies both.
+    let base_scene = match Scene::load(path, base) {
+        Err(SceneError::StepTooLong { .. }) => {
+            let unguarded: Vec<String> = base
+                .iter()
+                .cloned()
+                .chain(["integration.step_guard=false".to_string()])
+                .collect();
+            Scene::load(path, &unguarded)?
+        }
+        loaded => loaded?,
+    };
+    if group > 1 && !matches!(base_scene.spec.cloth.shape, ClothShape::Circle { .. }) {
+        return Err(SceneError::Invalid {
+            path: base_scene.path.clone(),
+            field: "cloth.shape".to_string(),
+            value: format!("{:?}", base_scene.spec.cloth.shape),
+            reason: "--placements applies to circular cloths: a rectangle's lattice fills its outline"
+                .to_string(),
+        });
+    }
     let mut settings = Vec::new();
     let mut refused = Vec::new();
     let mut points = Vec::new();
@@ -121,12 +144,28 @@ pub fn run_study(
     if reused.is_none() {
         points.push(reference_scene);
     }
+    if settings.is_empty() {
+        let refused: Vec<String> = refused
+            .iter()
+            .map(|r| format!("{:?} ({} needs dt ≤ {:.3e} s)", r.setting, r.effect, r.max_step_s))
+            .collect();
+        return Err(SceneError::Invalid {
+            path: base_scene.path.clone(),
+            field: "integration.dt_s".to_string(),
+            value: "every grid point".to_string(),
+            reason: format!(
+                "the stability guard refuses every grid point: {}",
+                refused.join("; ")
+            ),
+        });
+    }
     let mut scenes = Vec::with_capacity(points.len() * group);
     for point in &points {
         scenes.extend(placed_runs(point, group)?);
     }
     let total = scenes.len();
     let finished = std::sync::atomic::AtomicUsize::new(0);
+    on_done(0, total);
     let outcomes = simulate_all(&scenes, threads, |_, _| {
         let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         on_done(done, total);
@@ -202,6 +241,11 @@ fn aggregate(runs: &[RunOutcome]) -> (Metrics, Option<f64>) {
     m.wall_time_s = runs.iter().map(|o| o.metrics.wall_time_s).sum::<f64>() / n;
     m.max_strain = runs.iter().map(|o| o.metrics.max_strain).fold(0.0, f64::max);
     m.settled = runs.iter().all(|o| o.metrics.settled);
+    // The slowest run's settle time, and none if any run did not settle.
+    m.settle_time_s = runs
+        .iter()
+        .map(|o| o.metrics.settle_time_s.filter(|_| o.metrics.settled))
+        .try_fold(0.0f64, |a, t| t.map(|t| a.max(t)));
     m.failure = runs.iter().find_map(|o| o.metrics.failure.clone());
     let hangs: Vec<f64> = runs.iter().filter_map(|o| o.metrics.hang_corners_m).collect();
     m.hang_corners_m = (hangs.len() == runs.len()).then(|| hangs.iter().sum::<f64>() / n);
