@@ -257,3 +257,47 @@ fn damping_products_match_velocity_derivatives() {
         }
     }
 }
+
+/// The default compression spring means what `docs/model.md` §9 says: under the Euler buckling
+/// load of the strip it stands for (π²·B/σ² per unit width, π²·B/σ on a link σ wide) a link
+/// shortens by σ/`BUCKLING_MARGIN`, whatever the fabric and spacing; stretched, it pushes not at
+/// all (the rope joint holds that side). Tolerance 1e-9 relative: one product and a subtraction.
+#[test]
+fn at_the_strips_buckling_load_a_link_shortens_by_one_over_the_margin() {
+    for path in common::shipped_fabric_paths() {
+        let fabric = Fabric::load(&path).unwrap();
+        let b = fabric
+            .bending(kes_cloth::material::Thread::Warp)
+            .rigidity
+            .max(fabric.bending(kes_cloth::material::Thread::Weft).rigidity);
+        for sigma in [0.005, 0.01, 0.02] {
+            let topo = Arc::new(ClothTopology::rectangle(2, 1, sigma));
+            let spring = LinkCompression::new(topo.clone(), LinkCompression::default_modulus(&fabric, sigma));
+            let at = |r: f64| [DVec3::ZERO, DVec3::new(r, 0.0, 0.0)];
+            let v = [DVec3::ZERO; 2];
+            let euler_load = std::f64::consts::PI.powi(2) * b / sigma;
+            let pushed = forces(
+                &spring,
+                &topo,
+                &at(sigma * (1.0 - 1.0 / kes_cloth::forces::BUCKLING_MARGIN)),
+                &v,
+            );
+            assert!(
+                (pushed[1].x / euler_load - 1.0).abs() < 1e-9 && pushed[1].x > 0.0,
+                "{}: σ {sigma}: force {} N against the Euler load {euler_load} N",
+                fabric.name,
+                pushed[1].x
+            );
+            assert!(
+                (pushed[0] + pushed[1]).length() < 1e-12 * euler_load,
+                "equal and opposite"
+            );
+            let stretched = forces(&spring, &topo, &at(1.01 * sigma), &v);
+            assert_eq!(
+                stretched[1],
+                DVec3::ZERO,
+                "one-sided: no push on a stretched link"
+            );
+        }
+    }
+}

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::{Scene, StretchModel, spawn::cloth_grid};
-use crate::forces::{BUCKLING_MARGIN, LinkCompression, explicit_step_limits};
+use crate::forces::{BUCKLING_MARGIN, LinkCompression};
 use crate::material::Thread;
 
 /// A multi-line description of the validated scene and its fabric in SI units.
@@ -69,15 +69,7 @@ pub fn describe(scene: &Scene) -> String {
         };
         let _ = writeln!(out, "  link compression modulus {modulus}");
     }
-    let limits = explicit_step_limits(
-        f,
-        s.cloth.spacing_m,
-        fx.bending,
-        fx.trellising,
-        fx.hysteresis,
-        fx.stretch,
-        fx.compression_modulus_n_per_m,
-    );
+    let limits = super::step_limits(s, f);
     let listed: Vec<String> = limits
         .iter()
         .map(|l| format!("{} {:.3e} s", l.effect, l.max_step))

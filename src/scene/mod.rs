@@ -154,15 +154,11 @@ impl Scene {
     }
 }
 
-/// The stability guard: an explicit step longer than the tightest limit of the scene's effects
-/// (`forces::explicit_step_limits`) is refused, naming the effect and the step it needs.
-fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (crate::forces::StepLimit, String)> {
-    let i = &spec.integration;
-    if i.integrator != IntegratorSpec::Explicit || !i.step_guard {
-        return Ok(());
-    }
+/// The explicit step limit of every effect the scene asks for, tightest first
+/// (`forces::explicit_step_limits`).
+pub(crate) fn step_limits(spec: &SceneFile, fabric: &Fabric) -> Vec<crate::forces::StepLimit> {
     let fx = &spec.effects;
-    let limits = crate::forces::explicit_step_limits(
+    crate::forces::explicit_step_limits(
         fabric,
         spec.cloth.spacing_m,
         fx.bending,
@@ -170,8 +166,17 @@ fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (crate::
         fx.hysteresis,
         fx.stretch,
         fx.compression_modulus_n_per_m,
-    );
-    match limits.first() {
+    )
+}
+
+/// The stability guard: an explicit step longer than the tightest limit of the scene's effects
+/// (`forces::explicit_step_limits`) is refused, naming the effect and the step it needs.
+fn check_explicit_step(spec: &SceneFile, fabric: &Fabric) -> Result<(), (crate::forces::StepLimit, String)> {
+    let i = &spec.integration;
+    if i.integrator != IntegratorSpec::Explicit || !i.step_guard {
+        return Ok(());
+    }
+    match step_limits(spec, fabric).first() {
         Some(tightest) if i.dt_s > tightest.max_step => Err((
             *tightest,
             format!(
