@@ -36,8 +36,8 @@
 //!    frame (or [`embed::KesCloth::apply_forces`] before your own `world.step()`). See
 //!    `examples/embed_rapier.rs`, `examples/flag.rs`, `examples/custom_fabric.rs`.
 //!
-//! By default our forces are explicit at Rapier's step: use one solver substep
-//! (`num_solver_iterations = 1`) and a step the fabric allows (`docs/rapier.md`, `docs/model.md`).
+//! By default our forces are explicit at Rapier's step (symplectic Euler at any
+//! `num_solver_iterations`): use a step the fabric allows (`docs/rapier.md`, `docs/model.md`).
 //! [`implicit::Integrator::Implicit`] solves them backward-Euler instead, stable at the step
 //! contact needs (1/240 s) for the stiffest fabric.
 //!

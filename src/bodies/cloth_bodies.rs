@@ -1,6 +1,6 @@
 //! Spawning cloth nodes and links, reading their state, writing our forces.
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use rapier3d::prelude::*;
 
 use crate::forces::ClothTopology;
@@ -147,12 +147,17 @@ impl ClothBodies {
         }
     }
 
-    /// Replaces the user force on every node (N); Rapier holds it constant over the next step.
+    /// Hands our node forces (N) to Rapier for the next step as a velocity kick Δv = F·dt/m,
+    /// applied before the step, so that Rapier's substeps integrate positions with the whole
+    /// kick (symplectic Euler at any substep count; a user force held over n substeps is not:
+    /// `docs/rapier.md`). Call it right before `world.step()`.
     pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
+        let dt = world.integration_parameters.dt as f64;
         for (h, f) in self.handles.iter().zip(forces) {
             if let Some(body) = world.bodies.get_mut(*h) {
-                body.reset_forces(false);
-                body.add_force(Vec3::new(f.x as f32, f.y as f32, f.z as f32), false);
+                let kick = *f * (dt / self.node_mass);
+                let v = body.linvel().as_dvec3() + kick;
+                body.set_linvel(v.as_vec3(), false);
             }
         }
     }

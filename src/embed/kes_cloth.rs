@@ -19,7 +19,7 @@ impl KesCloth {
     }
 
     /// Reads the nodes from `world`, computes every KES force, and hands them to Rapier for
-    /// the next step (N, held constant over it).
+    /// the next step as a velocity kick F·dt/m on each node: call `world.step()` right after.
     pub fn apply_forces(&mut self, world: &mut PhysicsWorld) {
         let p = &mut self.parts;
         let state = &mut p.state;

@@ -11,8 +11,8 @@
 //!    previous step's Δv (C the damping matrix of the dissipative effects), with the normal
 //!    component of Δv held at zero for nodes resting on a fixed surface (Baraff & Witkin's
 //!    filter), except where the force on the node already points away from the surface;
-//! 4. hands Rapier the force M·Δv/h, so that its step adds exactly Δv (and gravity) before its
-//!    joints and contacts act.
+//! 4. hands Rapier the force M·Δv/h, which reaches each node as the velocity kick Δv before
+//!    Rapier's step (gravity, joints and contacts follow).
 //!
 //! Only our forces are implicit; Rapier still treats gravity, joints and contact its own way.
 //! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
@@ -30,7 +30,7 @@ pub const SUPPORT_GAP: f64 = 1e-3;
 /// How our forces are integrated over a step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
-    /// Forces at the start of the step, held constant (symplectic Euler in Rapier): cheapest
+    /// Forces at the start of the step, as one velocity kick (symplectic Euler in Rapier): cheapest
     /// per step, but stable only for steps below the fabric's explicit limit.
     Explicit,
     /// Linearly implicit backward Euler: stable at any step, with numerical damping that grows

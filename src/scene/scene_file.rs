@@ -270,9 +270,10 @@ pub struct IntegrationSpec {
     /// `docs/model.md` §10). Off only to study instability on purpose.
     #[serde(default = "yes")]
     pub step_guard: bool,
-    /// Rapier solver iterations (substeps) per step (default 1). Our forces are sampled once
-    /// per step; with more than one substep Rapier integrates them in a way that is unstable
-    /// for any stiffness (see `docs/rapier.md`), so keep 1 unless no KES force is on.
+    /// Rapier solver iterations (substeps) per step, 1 to 64 (default 1). Our forces reach
+    /// Rapier as a velocity kick before its step, so they stay symplectic at any count; each
+    /// substep re-solves joints and contacts, which stiffens links and contacts and lets light
+    /// nodes carry heavy bodies, at roughly n times Rapier's cost (`docs/rapier.md`).
     #[serde(default = "default_iterations")]
     pub solver_iterations: usize,
     /// PGS sweeps per substep, for joint and contact accuracy (default 4).
