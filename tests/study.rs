@@ -169,3 +169,30 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
     };
     assert!(err.to_string().contains("refuses every grid point"), "{err}");
 }
+
+/// Regression (a failed reference was not flagged): a reference that diverges (thin wool at
+/// 1 ms with the guard off: link compression allows 0.388 ms) is named in `study.md`, and no
+/// row gets an error against it.
+#[test]
+fn a_failed_reference_is_flagged_and_not_compared_with() {
+    let plan = StudyPlan {
+        vary: vec!["integration.dt_s=0.00025".parse::<Vary>().unwrap()],
+        reference: vec![
+            "integration.step_guard=false".into(),
+            "integration.dt_s=0.001".into(),
+        ],
+        placements: 1,
+    };
+    let base = vec!["integration.max_time_s=0.1".to_string()];
+    let scene = common::crate_path("scenes/drape_wool.ron");
+    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    assert!(
+        study.reference.failure.is_some(),
+        "the reference was meant to diverge"
+    );
+    let row = &study.rows[0];
+    assert!(row.metrics.failure.is_none());
+    assert_eq!((row.dc_error, row.shape_error_m), (None, None));
+    let (md, _) = written(&study, "failed-reference");
+    assert!(md.contains("The reference failed"), "{md}");
+}

@@ -174,20 +174,22 @@ pub fn run_study(
     let reference_runs = groups[reused.unwrap_or(settings.len())];
     let surface = ReferenceSurface::new(&reference_runs[0].topology, &reference_runs[0].positions);
     let (reference, reference_dc_std) = aggregate(reference_runs);
+    // Against a failed reference there is nothing to measure errors from.
+    let comparable = reference.failure.is_none();
     let rows = settings
         .into_iter()
         .zip(&groups)
         .map(|(setting, runs)| {
             let (m, dc_std) = aggregate(runs);
             let dc_error = match (m.drape_coefficient, reference.drape_coefficient) {
-                (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
+                (Some(a), Some(b)) if m.failure.is_none() && comparable => Some((a - b).abs()),
                 _ => None,
             };
             let hang_error_m = match (m.hang_corners_m, reference.hang_corners_m) {
-                (Some(a), Some(b)) if m.failure.is_none() => Some((a - b).abs()),
+                (Some(a), Some(b)) if m.failure.is_none() && comparable => Some((a - b).abs()),
                 _ => None,
             };
-            let shape_error_m = match (&surface, m.failure.is_none()) {
+            let shape_error_m = match (&surface, m.failure.is_none() && comparable) {
                 (Some(s), true) => {
                     Some(runs.iter().map(|o| s.rms_distance(&o.positions)).sum::<f64>() / runs.len() as f64)
                 }

@@ -97,6 +97,21 @@ fn markdown(study: &Study) -> String {
         },
         r.wall_time_s
     );
+    if let Some(f) = &r.failure {
+        let _ = writeln!(
+            s,
+            "**The reference failed** at step {} (t = {:.4} s, particle {}, effect `{}`: {}): no \
+             errors are given. Choose a reference the stability guard and the solver can run.\n",
+            f.step, f.time_s, f.particle, f.effect, f.message
+        );
+    } else if !r.settled {
+        let _ = writeln!(
+            s,
+            "**The reference did not settle** within its {:.1} s: its measures are provisional, and \
+             so is every error below. Give it more time (`integration.max_time_s`).\n",
+            r.sim_time_s
+        );
+    }
     if study.placements > 1 {
         let _ = writeln!(
             s,
