@@ -8,7 +8,7 @@ use rapier3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut world = PhysicsWorld::default();
-    // kes-cloth's forces are explicit: one substep, a step its stiffest spring allows.
+    // kes-cloth's forces are explicit: a step its stiffest spring allows (one substep is enough).
     world.integration_parameters.dt = 1.0 / 4000.0;
     world.integration_parameters.num_solver_iterations = 1;
     world.integration_parameters.num_internal_pgs_iterations = 4;

@@ -25,8 +25,11 @@ fn explicit_forces_do_not_grow_under_rapier_substeps() {
         "peak link strain {:.1} % with 4 substeps",
         m.peak_strain * 100.0
     );
-    let dc = m.drape_coefficient.unwrap();
-    // Same lattice and seed as the shipped run (DC 0.475); placements scatter DC by ±0.02, and
-    // changing the solver changes the fold pattern like a placement does.
-    assert!((0.40..0.55).contains(&dc), "DC {dc:.3} with 4 substeps");
+    let dc = m
+        .drape_coefficient
+        .expect("a settled drape has a drape coefficient");
+    // The one-substep run drapes 0.475 (same lattice and seed). Changing the solver changes
+    // the fold pattern as a new lattice placement does, and placements scatter DC with a
+    // standard deviation of 0.020 (docs/accuracy.md §0): 0.05 is 2.5 of them.
+    assert!((dc - 0.475).abs() < 0.05, "DC {dc:.3} with 4 substeps");
 }

@@ -193,6 +193,13 @@ fn a_failed_reference_is_flagged_and_not_compared_with() {
     let row = &study.rows[0];
     assert!(row.metrics.failure.is_none());
     assert_eq!((row.dc_error, row.shape_error_m), (None, None));
-    let (md, _) = written(&study, "failed-reference");
+    let (md, csv) = written(&study, "failed-reference");
     assert!(md.contains("The reference failed"), "{md}");
+    assert!(!md.contains("Errors are against the reference"), "{md}");
+    // The CSV says so too, and its error column is empty.
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+    let column = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!(column("dc_error"), "");
+    assert_eq!(column("reference_failed"), "true");
 }

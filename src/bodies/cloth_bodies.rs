@@ -147,16 +147,17 @@ impl ClothBodies {
         }
     }
 
-    /// Hands our node forces (N) to Rapier for the next step as a velocity kick Δv = F·dt/m,
-    /// applied before the step, so that Rapier's substeps integrate positions with the whole
-    /// kick (symplectic Euler at any substep count; a user force held over n substeps is not:
-    /// `docs/rapier.md`). Call it right before `world.step()`.
+    /// Hands our node forces (N) to Rapier for the next step as a velocity kick F·dt/m (m the
+    /// node mass), applied before the step, so that Rapier's substeps integrate positions with
+    /// the whole kick (symplectic Euler at any substep count; a user force held over n substeps
+    /// is not: `docs/rapier.md`). Call it once, right before `world.step()`. Any user force left
+    /// on a node (e.g. by a checkpoint written before session 6) is cleared.
     pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
         let dt = world.integration_parameters.dt as f64;
         for (h, f) in self.handles.iter().zip(forces) {
             if let Some(body) = world.bodies.get_mut(*h) {
-                let kick = *f * (dt / self.node_mass);
-                let v = body.linvel().as_dvec3() + kick;
+                body.reset_forces(false);
+                let v = body.linvel().as_dvec3() + *f * (dt / self.node_mass);
                 body.set_linvel(v.as_vec3(), false);
             }
         }

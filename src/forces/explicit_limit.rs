@@ -1,7 +1,7 @@
 //! The largest step at which each KES force stays stable when applied explicitly
 //! (`docs/model.md` §10).
 //!
-//! Rapier's step with our forces held over it is symplectic Euler, stable while ω·dt < 2 for the
+//! Our forces, applied as one velocity kick before Rapier's step, give symplectic Euler, stable while ω·dt < 2 for the
 //! fastest mode. Per node of mass m = ρ_A·σ², with tangent stiffnesses taken at their largest over
 //! the range a drape reaches (the curves' maximum slope up to full fold or full shear, the
 //! tensile laws at EMT):

@@ -100,8 +100,8 @@ impl ImplicitSolver {
     }
 
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
-    /// M·Δv/h, the force under which Rapier's step of `h` (s) adds the backward-Euler velocity
-    /// change Δv (m/s) of our forces. `generators` are the cloth's effects (`None` for an effect it
+    /// M·Δv/h, the force that [`crate::bodies::ClothBodies::write_forces`] turns back into the
+    /// kick Δv (m/s), our forces' backward-Euler velocity change over the step `h` (s). `generators` are the cloth's effects (`None` for an effect it
     /// does not carry, so callers need not allocate a list per step).
     pub fn solve(
         &mut self,

@@ -144,7 +144,8 @@ pub fn push_forces(
     }
 }
 
-/// Phase 3, step: Rapier integrates gravity, our forces, joints, contact and friction.
+/// Phase 3, step: Rapier integrates gravity, joints, contact and friction (our forces' kick is
+/// already in the node velocities).
 pub fn step_rapier(mut physics: ResMut<Physics>, mut clock: ResMut<Clock>, mut ledger: ResMut<EffectLedger>) {
     let start = Instant::now();
     physics.0.step();

@@ -8,8 +8,8 @@
 //!    drag, hysteresis), each behind a run condition: it runs only if the scene's cloth carries that
 //!    [`Effect`] component. Then the link forces are summed onto nodes; for a cloth with the
 //!    [`Implicit`] component they are replaced by the backward-Euler force ([`crate::implicit`]);
-//!    then they are handed to Rapier.
-//! 3. [`Phase::Step`]: Rapier's step (gravity, our forces, joints, contact, friction).
+//!    then they are handed to Rapier as one velocity kick per node.
+//! 3. [`Phase::Step`]: Rapier's step (gravity, joints, contact, friction).
 //! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, the finite-value
 //!    guard, motion statistics, the settle criterion.
 //! 5. [`Phase::Output`]: progress reporting (only when a [`Progress`] resource exists).

@@ -34,13 +34,14 @@ fn csv_text(study: &Study) -> String {
     let mut s = study.keys.join(",");
     s += ",particles,spacing_m,dt_s,integrator,steps,wall_time_s,settled,settle_time_s,\
           drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default,\
-          hang_corners_m,skirt_folds,hang_error_m,placements,dc_std\n";
+          hang_corners_m,skirt_folds,hang_error_m,placements,dc_std,reference_failed,\
+          reference_settled\n";
     for row in &study.rows {
         let m = &row.metrics;
         let values: Vec<&str> = row.setting.iter().map(|(_, v)| v.as_str()).collect();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{},{},{},{},{}",
             values.join(","),
             m.particles,
             m.spacing_m,
@@ -62,6 +63,8 @@ fn csv_text(study: &Study) -> String {
             opt(row.hang_error_m, 5),
             study.placements,
             opt(row.dc_std, 4),
+            study.reference.failure.is_some(),
+            study.reference.settled,
         );
     }
     s
@@ -122,8 +125,14 @@ fn markdown(study: &Study) -> String {
             study.placements - 1
         );
     }
-    let table = r.drape_coefficient.is_none() && r.hang_corners_m.is_some();
-    s += if table {
+    let table = study
+        .rows
+        .iter()
+        .all(|row| row.metrics.drape_coefficient.is_none())
+        && study.rows.iter().any(|row| row.metrics.hang_corners_m.is_some());
+    s += if r.failure.is_some() {
+        "★ marks the scene's own setting.\n\n"
+    } else if table {
         "Errors are against the reference: hang error |hang − hang_ref| of the four corners below the \
          table top; shape error is the RMS distance of the run's nodes from the reference's draped \
          surface. ★ marks the scene's own setting.\n\n"
