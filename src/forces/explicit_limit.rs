@@ -1,10 +1,10 @@
 //! The largest step at which each KES force stays stable when applied explicitly
 //! (`docs/model.md` §10).
 //!
-//! Our forces, applied as one velocity kick before Rapier's step, give symplectic Euler, stable while ω·dt < 2 for the
-//! fastest mode. Per node of mass m = ρ_A·σ², with tangent stiffnesses taken at their largest over
-//! the range a drape reaches (the curves' maximum slope up to full fold or full shear, the
-//! tensile laws at EMT):
+//! Our forces, applied as one velocity kick before Rapier's step, give symplectic Euler, stable
+//! while ω·dt < 2 for the fastest mode. Per node of mass m = ρ_A·σ², with tangent stiffnesses
+//! taken at their largest over the range a drape reaches (the curves' maximum slope up to full
+//! fold or full shear, the tensile laws at EMT):
 //!
 //! * bending: the out-of-plane checkerboard mode bends every warp and weft spring by 4u/σ, so
 //!   k = 16·(B_warp + B_weft)/σ²;

@@ -101,8 +101,9 @@ impl ImplicitSolver {
 
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
     /// M·Δv/h, the force that [`crate::bodies::ClothBodies::write_forces`] turns back into the
-    /// kick Δv (m/s), our forces' backward-Euler velocity change over the step `h` (s). `generators` are the cloth's effects (`None` for an effect it
-    /// does not carry, so callers need not allocate a list per step).
+    /// kick Δv (m/s), our forces' backward-Euler velocity change over the step `h` (s).
+    /// `generators` are the cloth's effects (`None` for an effect it does not carry, so callers
+    /// need not allocate a list per step).
     pub fn solve(
         &mut self,
         generators: &[Option<&dyn ForceGenerator>],

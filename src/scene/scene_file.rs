@@ -289,9 +289,9 @@ pub struct IntegrationSpec {
 /// How our forces are integrated over a step (`docs/model.md` §7 and §12).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum IntegratorSpec {
-    /// Forces at the start of the step, as one velocity kick: cheapest per step, stable only below the
-    /// fabric's explicit step limit (0.139 ms for thick cotton at 1 cm, set by the link
-    /// compression spring).
+    /// Forces at the start of the step, as one velocity kick: cheapest per step, stable only
+    /// below the fabric's explicit step limit (0.139 ms for thick cotton at 1 cm, set by the
+    /// link compression spring).
     #[default]
     Explicit,
     /// Linearly implicit backward Euler (Baraff & Witkin): stable at the step contact needs;

@@ -70,6 +70,15 @@ pub struct Study {
     pub refused: Vec<RefusedPoint>,
 }
 
+impl Study {
+    /// Whether the study's scene is judged by DC (a drapemeter) rather than by corner hang (a
+    /// tablecloth): any run or the reference measured a drape coefficient.
+    pub fn is_drapemeter(&self) -> bool {
+        self.reference.drape_coefficient.is_some()
+            || self.rows.iter().any(|r| r.metrics.drape_coefficient.is_some())
+    }
+}
+
 /// A grid point not run because its explicit step is beyond the stability guard.
 #[derive(Clone, Debug)]
 pub struct RefusedPoint {

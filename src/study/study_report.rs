@@ -125,11 +125,7 @@ fn markdown(study: &Study) -> String {
             study.placements - 1
         );
     }
-    let table = study
-        .rows
-        .iter()
-        .all(|row| row.metrics.drape_coefficient.is_none())
-        && study.rows.iter().any(|row| row.metrics.hang_corners_m.is_some());
+    let table = !study.is_drapemeter();
     s += if r.failure.is_some() {
         "★ marks the scene's own setting.\n\n"
     } else if table {

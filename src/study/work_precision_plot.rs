@@ -55,8 +55,7 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(700);
     // Drapemeter scenes are judged by DC, tablecloth scenes by how low their corners hang.
-    let drapemeter = study.rows.iter().any(|r| r.metrics.drape_coefficient.is_some());
-    let first: (&str, ErrorOf) = if drapemeter {
+    let first: (&str, ErrorOf) = if study.is_drapemeter() {
         ("drape coefficient error |DC − DC_ref|", |r| r.dc_error)
     } else {
         ("corner hang error (mm)", |r| r.hang_error_m.map(|e| e * 1e3))
