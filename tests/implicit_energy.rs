@@ -50,7 +50,7 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
                     g.add_forces(&geo, &v, &mut buffer);
                 }
                 buffer.resolve(&topo);
-                solver.solve(&gens, &geo, &v, &mut buffer.particle, h);
+                solver.solve(&gens, &geo, &v, &mut buffer.particle, (h, glam::DVec3::ZERO));
                 for ((x, v), f) in x.iter_mut().zip(&mut v).zip(&buffer.particle) {
                     *v += *f * (h / m);
                     *x += *v * h;

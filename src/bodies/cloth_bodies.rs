@@ -106,6 +106,17 @@ impl ClothBodies {
         }
     }
 
+    /// The acceleration (m/s²) Rapier's gravity gives the nodes: the world's gravity times the
+    /// nodes' gravity scale (zero for a cloth built without gravity).
+    pub fn gravity(&self, world: &PhysicsWorld) -> DVec3 {
+        self.handles
+            .first()
+            .and_then(|h| world.bodies.get(*h))
+            .map_or(DVec3::ZERO, |b| {
+                world.gravity.as_dvec3() * b.gravity_scale() as f64
+            })
+    }
+
     /// For each node touching a fixed or kinematic collider (gap at most `max_gap`, m), the unit
     /// normal of that surface pointing towards the node; zero for a free node. Where a node
     /// touches several surfaces, the deepest contact wins.

@@ -325,8 +325,13 @@ impl ClothBuilder {
             gravity: self.gravity,
         };
         let bodies = ClothBodies::spawn(world, &topology, &positions, &options);
+        // Nodes pinned to a body that cannot move: the implicit solve holds them too.
+        let mut held = Vec::new();
         for pin in &self.pins {
             if let Some(node) = topology.grid_coords.iter().position(|&c| c == pin.node) {
+                if world.bodies.get(pin.body).is_some_and(|b| !b.is_dynamic()) {
+                    held.push(node);
+                }
                 let joint = SphericalJointBuilder::new()
                     .local_anchor1(pin.anchor)
                     .local_anchor2(Vec3::ZERO)
@@ -356,7 +361,13 @@ impl ClothBuilder {
                 .then(|| Hysteresis::new(t.clone(), fabric, self.bending, self.trellising)),
             implicit: match self.integrator {
                 Integrator::Explicit => None,
-                Integrator::Implicit(settings) => Some(ImplicitSolver::new(t.clone(), node_mass, settings)),
+                Integrator::Implicit(settings) => {
+                    let mut solver = ImplicitSolver::new(t.clone(), node_mass, settings);
+                    for node in held {
+                        solver.hold(node);
+                    }
+                    Some(solver)
+                }
             },
             state: ClothState::new(topology.clone(), positions),
             bodies,

@@ -48,7 +48,8 @@ impl KesCloth {
                 .read_supports(world, crate::implicit::SUPPORT_GAP, &mut implicit.supports);
             let h = world.integration_parameters.dt as f64;
             let forces = &mut state.forces.particle;
-            implicit.solve(&generators, &state.geometry, &state.velocities, forces, h);
+            let g = p.bodies.gravity(world);
+            implicit.solve(&generators, &state.geometry, &state.velocities, forces, (h, g));
         }
         p.bodies.write_forces(world, &state.forces.particle);
     }

@@ -60,6 +60,8 @@ pub struct ImplicitSolver {
     pub supports: Vec<DVec3>,
     /// The right-hand side before the support filter.
     rhs_free: Vec<DVec3>,
+    /// Nodes pinned to a body that cannot move: their Δv is held at zero, as the pin will.
+    held: Vec<bool>,
     /// Totals so far.
     pub stats: ImplicitStats,
 }
@@ -93,24 +95,35 @@ impl ImplicitSolver {
             perturbation: Perturbation::new(&topology),
             supports: vec![DVec3::ZERO; n],
             rhs_free: vec![DVec3::ZERO; n],
+            held: vec![false; n],
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
             topology,
         }
     }
 
+    /// Holds `node` in place in every solve: for a node pinned to a fixed or kinematic body,
+    /// whose joint will undo any velocity the solve gives it (ignored if out of range).
+    pub fn hold(&mut self, node: usize) {
+        if let Some(h) = self.held.get_mut(node) {
+            *h = true;
+        }
+    }
+
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
-    /// M·Δv/h, the force that [`crate::bodies::ClothBodies::write_forces`] turns back into the
-    /// kick Δv (m/s), our forces' backward-Euler velocity change over the step `h` (s).
-    /// `generators` are the cloth's effects (`None` for an effect it does not carry, so callers
-    /// need not allocate a list per step).
+    /// M·Δv/h − M·g, the force that [`crate::bodies::ClothBodies::write_forces`] turns back into
+    /// the kick Δv − h·g (m/s): Δv is the backward-Euler velocity change of our forces and
+    /// gravity over the step `h` (s), and Rapier adds the h·g back. `gravity` (m/s²) is the
+    /// nodes' gravity in Rapier ([`crate::bodies::ClothBodies::gravity`]). `generators` are the
+    /// cloth's effects (`None` for an effect it does not carry, so callers need not allocate a
+    /// list per step).
     pub fn solve(
         &mut self,
         generators: &[Option<&dyn ForceGenerator>],
         geometry: &ClothGeometry,
         velocities: &[DVec3],
         forces: &mut [DVec3],
-        h: f64,
+        (h, gravity): (f64, DVec3),
     ) -> CgReport {
         let (topo, m) = (&*self.topology, self.node_mass);
         let (pert, product) = (&mut self.perturbation, &mut self.product);
@@ -126,25 +139,39 @@ impl ImplicitSolver {
         }
         // Supported nodes: our Δv has no component along the support normal (Baraff & Witkin's
         // filtered CG), so the surface, not the rest of the cloth, carries what presses on them.
-        let filter = |n: DVec3, v: DVec3| v - n.dot(v) * n;
-        // A support that would have to pull the node onto the surface (the force on it, b,
-        // points away from the surface) is released for this step.
+        // A held (pinned) node keeps no component at all.
+        let filter = |n: DVec3, held: bool, v: DVec3| {
+            if held { DVec3::ZERO } else { v - n.dot(v) * n }
+        };
+        // Gravity enters the solve too, and leaves the kick again because Rapier applies it.
+        // Our stiff response then balances the cloth's weight where the cloth's constraints do:
+        // solved without it, a step at rest ends where h·F = −(M + h²H)·g·h, as if the cloth
+        // weighed (M + h²H)/M times more in its stiff modes (docs/model.md §12).
+        let weight = m * gravity;
+        // A support that would have to pull the node onto the surface (our force and the
+        // node's weight, b, point away from it) is released for this step.
         for (n, free) in self.supports.iter_mut().zip(&self.rhs_free) {
-            if n.dot(*free) > 0.0 {
+            if n.dot(*free + h * weight) > 0.0 {
                 *n = DVec3::ZERO;
             }
         }
-        for ((b, free), n) in self.rhs.iter_mut().zip(&self.rhs_free).zip(&self.supports) {
-            *b = filter(*n, *free);
+        for (((b, free), n), held) in self
+            .rhs
+            .iter_mut()
+            .zip(&self.rhs_free)
+            .zip(&self.supports)
+            .zip(&self.held)
+        {
+            *b = filter(*n, *held, *free + h * weight);
         }
-        for (dv, n) in self.dv.iter_mut().zip(&self.supports) {
-            *dv = filter(*n, *dv);
+        for ((dv, n), held) in self.dv.iter_mut().zip(&self.supports).zip(&self.held) {
+            *dv = filter(*n, *held, *dv);
         }
-        let supports = &self.supports;
+        let (supports, held) = (&self.supports, &self.held);
         let apply = |x: &[DVec3], out: &mut [DVec3]| {
             apply_system(generators, geometry, (pert, product), (m, h), x, out);
-            for (o, n) in out.iter_mut().zip(supports) {
-                *o = filter(*n, *o);
+            for ((o, n), held) in out.iter_mut().zip(supports).zip(held) {
+                *o = filter(*n, *held, *o);
             }
         };
         let [r, z, p, ap] = &mut self.scratch;
@@ -157,8 +184,13 @@ impl ImplicitSolver {
             self.settings.tolerance,
             self.settings.max_iterations,
         );
-        for (f, dv) in forces.iter_mut().zip(&self.dv) {
-            *f = (m / h) * *dv;
+        for (((f, dv), n), held) in forces
+            .iter_mut()
+            .zip(&self.dv)
+            .zip(&self.supports)
+            .zip(&self.held)
+        {
+            *f = (m / h) * *dv - filter(*n, *held, weight);
         }
         self.stats.solves += 1;
         self.stats.iterations += report.iterations as u64;

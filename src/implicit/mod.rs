@@ -5,16 +5,18 @@
 //! [`Integrator::Implicit`], each step instead:
 //!
 //! 1. evaluates every force F at the current positions and velocities (as the explicit pass does);
-//! 2. forms b = h·(F − h·H·v), H the clamped, positive semi-definite Hessian of our energies
-//!    ([`crate::forces::ForceGenerator::add_stiffness_product`]);
+//! 2. forms b = h·(F + M·g − h·H·v), H the clamped, positive semi-definite Hessian of our
+//!    energies ([`crate::forces::ForceGenerator::add_stiffness_product`]) and g the nodes'
+//!    gravity, so that the step's fixed point is the cloth's true equilibrium F + M·g = 0;
 //! 3. solves (M + h·C + h²·H)·Δv = b by conjugate gradients, matrix-free, warm-started from the
 //!    previous step's Δv (C the damping matrix of the dissipative effects), with the normal
 //!    component of Δv held at zero for nodes resting on a fixed surface (Baraff & Witkin's
-//!    filter), except where the force on the node already points away from the surface;
-//! 4. hands Rapier the force M·Δv/h, which reaches each node as the velocity kick Δv before
-//!    Rapier's step (gravity, joints and contacts follow).
+//!    filter), except where our force and the node's weight already point away from it, and
+//!    the whole Δv held at zero for nodes pinned to a body that cannot move;
+//! 4. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
+//!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
-//! Only our forces are implicit; Rapier still treats gravity, joints and contact its own way.
+//! Only our forces and gravity are implicit; Rapier still treats joints and contact its own way.
 //! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
 
 mod conjugate_gradient;

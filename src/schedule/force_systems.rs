@@ -109,9 +109,14 @@ pub fn solve_implicit(
             h.map(|e| &e.0 as &dyn ForceGenerator),
         ];
         let forces = &mut state.forces.particle;
-        implicit
-            .0
-            .solve(&generators, &state.geometry, &state.velocities, forces, clock.dt);
+        let gravity = nodes.0.gravity(&physics.0);
+        implicit.0.solve(
+            &generators,
+            &state.geometry,
+            &state.velocities,
+            forces,
+            (clock.dt, gravity),
+        );
         ledger.record("implicit_solve", start.elapsed().as_secs_f64());
         if let Some(i) = forces.iter().position(|f| !f.is_finite()) {
             failure.0 = Some(SimulationFailure {
