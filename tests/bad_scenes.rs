@@ -112,6 +112,22 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
     assert_eq!(s.spec.integration.settle.max_speed_m_per_s, 0.002);
     let s = Scene::load(&path, &["cloth.centre_m=[0.0, 0.02, 0.0]".into()]).unwrap();
     assert_eq!(s.spec.cloth.centre_m, [0.0, 0.02, 0.0]);
+    // Regression (a list element could not be reached, `world.colliders.0.friction`, and a RON
+    // list of tuples, as a scene file writes pins, was refused as text).
+    let s = Scene::load(
+        &path,
+        &[
+            "world.colliders.0.friction=0.0".into(),
+            "cloth.pins_m=[(0.0, 0.01, 0.0), (0.01, 0.01, 0.0),]".into(),
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.spec.world.colliders[0].friction, 0.0);
+    assert_eq!(s.spec.cloth.pins_m, vec![[0.0, 0.01, 0.0], [0.01, 0.01, 0.0]]);
+    let e = Scene::load(&path, &["world.colliders.9.friction=0".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no field `world.colliders.9`"), "{e}");
     // Text that happens to read as RON still reaches a text field as text: the fabric path
     // `(1, 2)`, valid RON for a list, is looked up as a file (and is missing), not refused.
     let e = Scene::load(&path, &["fabric.File=(1, 2)".into()])

@@ -37,15 +37,16 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
     with(value).or_else(|e| with(as_text).map_err(|_| e))
 }
 
-/// Numbers, booleans, arrays and quoted strings read as JSON; a parenthesised value as RON, the
-/// way scene files write it (`(0.0, 0.01, 0.0)`, `(max_speed_m_per_s: 0.002, hold_s: 1.0)`);
-/// a bare word (an enum variant such as `Kes`, or a path) as a string.
+/// Numbers, booleans, arrays and quoted strings read as JSON; a parenthesised value or a list
+/// as RON, the way scene files write them (`(0.0, 0.01, 0.0)`, `(max_speed_m_per_s: 0.002,
+/// hold_s: 1.0)`, `[(0.0, 0.5, 0.0), (0.1, 0.5, 0.0)]`); a bare word (an enum variant such as
+/// `Kes`, or a path) as a string.
 fn parse_value(raw: &str) -> serde_json::Value {
     let string = || serde_json::Value::String(raw.to_string());
     if let Ok(v) = serde_json::from_str(raw) {
         return v;
     }
-    if raw.starts_with('(') {
+    if raw.starts_with('(') || raw.starts_with('[') {
         return ron::from_str::<ron::Value>(raw)
             .ok()
             .and_then(|v| serde_json::to_value(v).ok())
@@ -66,6 +67,10 @@ pub(crate) fn read(scene: &SceneFile, key: &str) -> Option<serde_json::Value> {
 
 /// The child `part` of `node`, looking through a single-variant enum wrapper if needed.
 fn step_into<'a>(node: &'a mut serde_json::Value, part: &str) -> Option<&'a mut serde_json::Value> {
+    // A list element by its index: `world.colliders.0.friction`.
+    if let serde_json::Value::Array(items) = node {
+        return part.parse::<usize>().ok().and_then(|i| items.get_mut(i));
+    }
     let serde_json::Value::Object(map) = node else {
         return None;
     };
