@@ -117,16 +117,18 @@ impl ClothBodies {
             })
     }
 
-    /// For each node touching a fixed or kinematic collider (gap at most `max_gap`, m), the unit
-    /// normal of that surface pointing towards the node; zero for a free node. Where a node
-    /// touches several surfaces, the deepest contact wins.
-    pub fn read_supports(&self, world: &PhysicsWorld, max_gap: f64, normals: &mut [DVec3]) {
+    /// For each node that a fixed or kinematic collider pushed in Rapier's last step (a contact
+    /// point with a positive normal impulse), the unit normal of that surface pointing towards
+    /// the node; zero for a free node. Where several surfaces pushed, the deepest contact wins.
+    /// Rapier's own active set decides: a node its contact no longer pushes (lifting off, or
+    /// merely near the surface) is free, with no threshold of ours that could disagree.
+    pub fn read_supports(&self, world: &PhysicsWorld, normals: &mut [DVec3]) {
         for (h, n) in self.handles.iter().zip(normals.iter_mut()) {
             *n = DVec3::ZERO;
             let Some(body) = world.bodies.get(*h) else {
                 continue;
             };
-            let mut deepest = max_gap as f32;
+            let mut deepest = f32::INFINITY;
             for &node_collider in body.colliders() {
                 for pair in world.contact_pairs_with(node_collider) {
                     let (other, node_first) = if pair.collider1 == node_collider {
@@ -145,7 +147,7 @@ impl ClothBodies {
                     }
                     for manifold in pair.manifolds() {
                         for point in &manifold.points {
-                            if point.dist <= deepest {
+                            if point.data.impulse > 0.0 && point.dist <= deepest {
                                 deepest = point.dist;
                                 // The manifold normal points from collider 1 to collider 2.
                                 let normal = manifold.data.normal.as_dvec3();

@@ -54,8 +54,8 @@ pub struct ImplicitSolver {
     inverse_diagonal: Vec<f64>,
     perturbation: Perturbation,
     product: ForceBuffer,
-    /// For each node resting on a fixed surface, that surface's unit normal (towards the node);
-    /// zero for a free node. Set before each [`Self::solve`] (e.g. by
+    /// For each node that a fixed surface pushed in Rapier's last step, that surface's unit
+    /// normal (towards the node); zero for a free node. Set before each [`Self::solve`] (e.g. by
     /// [`crate::bodies::ClothBodies::read_supports`]).
     pub supports: Vec<DVec3>,
     /// The right-hand side before the support filter.
@@ -148,13 +148,6 @@ impl ImplicitSolver {
         // solved without it, a step at rest ends where h·F = −(M + h²H)·g·h, as if the cloth
         // weighed (M + h²H)/M times more in its stiff modes (docs/model.md §12).
         let weight = m * gravity;
-        // A support that would have to pull the node onto the surface (our force and the
-        // node's weight, b, point away from it) is released for this step.
-        for (n, free) in self.supports.iter_mut().zip(&self.rhs_free) {
-            if n.dot(*free + h * weight) > 0.0 {
-                *n = DVec3::ZERO;
-            }
-        }
         for (((b, free), n), held) in self
             .rhs
             .iter_mut()

@@ -10,9 +10,9 @@
 //!    gravity, so that the step's fixed point is the cloth's true equilibrium F + M·g = 0;
 //! 3. solves (M + h·C + h²·H)·Δv = b by conjugate gradients, matrix-free, warm-started from the
 //!    previous step's Δv (C the damping matrix of the dissipative effects), with the normal
-//!    component of Δv held at zero for nodes resting on a fixed surface (Baraff & Witkin's
-//!    filter), except where our force and the node's weight already point away from it, and
-//!    the whole Δv held at zero for nodes pinned to a body that cannot move;
+//!    component of Δv held at zero for nodes that a fixed surface pushed in Rapier's last step
+//!    (Baraff & Witkin's filter, with Rapier's contact impulses as the active set), and the
+//!    whole Δv held at zero for nodes pinned to a body that cannot move;
 //! 4. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
@@ -24,10 +24,6 @@ mod implicit_solver;
 
 pub use conjugate_gradient::{CgReport, conjugate_gradient};
 pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
-
-/// A node closer than this (m) to a fixed surface counts as resting on it for the solve (one
-/// allowed linear error of the contact solver, `bodies::configure_world`).
-pub const SUPPORT_GAP: f64 = 1e-3;
 
 /// How our forces are integrated over a step.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -94,9 +94,7 @@ pub fn solve_implicit(
     }
     for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a, h)) in &mut cloths {
         let start = Instant::now();
-        nodes
-            .0
-            .read_supports(&physics.0, crate::implicit::SUPPORT_GAP, &mut implicit.0.supports);
+        nodes.0.read_supports(&physics.0, &mut implicit.0.supports);
         let state = &mut *state;
         let generators = [
             b.map(|e| &e.0 as &dyn ForceGenerator),
