@@ -5,7 +5,7 @@ use std::process::Command;
 
 mod common;
 
-/// The KES tensile law is far too stiff to apply explicitly at the shipped 0.25 ms step
+/// The KES tensile law is far too stiff to apply explicitly at the shipped 0.2 ms step
 /// (ω·dt ≫ 2): the run must be stopped, and the tensile effect blamed.
 #[test]
 fn an_explicitly_unstable_stretch_law_is_stopped_and_named() {

@@ -77,8 +77,8 @@ fn thick_cotton_drapes_with_fewer_folds_than_thin_wool_on_the_cusick_tester() {
     check_cotton_against_wool(&repeats("cusick_cotton"), &repeats("cusick_wool"));
 }
 
-/// Across all shipped fabrics on the seed's drapemeter (seed 0), DC rank follows the warp
-/// bending length. Each fabric runs at drape_wool's 0.25 ms, halved until the stability guard
+/// Across all shipped fabrics on the seed's drapemeter (seed 0, at 1 cm spacing for all), DC rank
+/// follows the warp bending length. Each fabric runs at 0.25 ms, halved until the stability guard
 /// accepts it (thick cotton's compression spring needs 0.125 ms at 1 cm).
 #[test]
 fn drape_coefficient_rises_with_bending_length() {
@@ -94,7 +94,9 @@ fn drape_coefficient_rises_with_bending_length() {
             }
             let file = format!("fabric={{\"File\":\"{}\"}}", path.display());
             let step = format!("integration.dt_s={dt}");
-            let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[file, step]).unwrap();
+            let spacing = "cloth.spacing_m=0.01".to_string();
+            let scene =
+                Scene::load(common::crate_path("scenes/drape_wool.ron"), &[file, step, spacing]).unwrap();
             let m = simulate(&scene, &RunOptions::default()).metrics;
             assert!(m.settled, "{} did not settle", scene.fabric.name);
             (

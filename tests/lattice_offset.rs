@@ -8,10 +8,13 @@ use kes_cloth::schedule::ClothState;
 
 mod common;
 
-/// Flat node positions (x, z) of `drape_wool` (25.4 cm circle at 1 cm, centred at the origin)
+/// Flat node positions (x, z) of `drape_wool` at 1 cm (25.4 cm circle, centred at the origin)
 /// with the given overrides, before any step.
 fn lattice(sets: &[&str]) -> Vec<[f64; 2]> {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let sets: Vec<String> = std::iter::once("cloth.spacing_m=0.01")
+        .chain(sets.iter().copied())
+        .map(String::from)
+        .collect();
     let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
     let (world, cloth) = spawn(&scene);
     let state = world.entity(cloth).get::<ClothState>().unwrap();
@@ -22,7 +25,7 @@ fn lattice(sets: &[&str]) -> Vec<[f64; 2]> {
 fn a_shifted_lattice_stays_inside_the_same_outline() {
     let (r, sigma) = (0.127, 0.01);
     let centred = lattice(&[]);
-    // The shipped default: a node at the centre, 505 nodes.
+    // The default lattice: a node at the centre, 505 nodes at 1 cm.
     assert_eq!(centred.len(), 505);
     assert!(centred.iter().any(|p| p[0].hypot(p[1]) < 1e-12));
     for offset in [(0.005, 0.005), (0.0025, 0.0), (-0.004, 0.003)] {
@@ -66,7 +69,7 @@ fn refusal(scene: &str, offset: &str) -> String {
 
 #[test]
 fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
-    let e = refusal("scenes/drape_wool.ron", "(0.006, 0.0)");
+    let e = refusal("scenes/drape_cotton.ron", "(0.006, 0.0)");
     assert!(
         e.contains("cloth.lattice_offset_m[0]") && e.contains("0.005"),
         "{e}"

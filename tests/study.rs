@@ -15,6 +15,16 @@ fn step_plan(steps: &str, placements: usize) -> StudyPlan {
     }
 }
 
+/// `drape_wool` as it shipped before session 6 (1 cm, 0.25 ms), which these studies were sized
+/// for, and a short run of `max_time_s` seconds.
+fn wool_at_1cm(max_time_s: f64) -> Vec<String> {
+    vec![
+        "cloth.spacing_m=0.01".to_string(),
+        "integration.dt_s=0.00025".to_string(),
+        format!("integration.max_time_s={max_time_s}"),
+    ]
+}
+
 /// Writes `study` into a fresh temporary folder named after `tag` and returns its `study.md`
 /// and `study.csv`, removing the folder again.
 fn written(study: &kes_cloth::study::Study, tag: &str) -> (String, String) {
@@ -67,7 +77,7 @@ fn the_grid_is_the_product_of_the_varied_values() {
 fn a_small_study_writes_its_table_and_diagram() {
     let scene = common::crate_path("scenes/drape_wool.ron");
     let plan = step_plan("0.00035,0.00025", 1);
-    let base = vec!["integration.max_time_s=0.1".to_string()];
+    let base = wool_at_1cm(0.1);
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
     assert_eq!(study.rows.len(), 2);
     assert!(!study.rows[0].is_default && study.rows[1].is_default);
@@ -121,7 +131,7 @@ fn a_tablecloth_study_reports_the_corner_hang_error() {
 #[test]
 fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
     let plan = step_plan("0.00025", 3);
-    let base = vec!["integration.max_time_s=0.05".to_string()];
+    let base = wool_at_1cm(0.05);
     let total = std::sync::atomic::AtomicUsize::new(0);
     let scene = common::crate_path("scenes/drape_wool.ron");
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, t| {
@@ -150,7 +160,7 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
 #[test]
 fn a_study_skips_and_reports_steps_the_guard_refuses() {
     let plan = step_plan("0.0005,0.00025", 1);
-    let base = vec!["integration.max_time_s=0.05".to_string()];
+    let base = wool_at_1cm(0.05);
     let scene = common::crate_path("scenes/drape_wool.ron");
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
     assert_eq!(study.rows.len(), 1);
@@ -183,7 +193,7 @@ fn a_failed_reference_is_flagged_and_not_compared_with() {
         ],
         placements: 1,
     };
-    let base = vec!["integration.max_time_s=0.1".to_string()];
+    let base = wool_at_1cm(0.1);
     let scene = common::crate_path("scenes/drape_wool.ron");
     let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
     assert!(

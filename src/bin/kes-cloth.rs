@@ -22,7 +22,7 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.00035,0.00025   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.0002,0.0001   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -95,7 +95,7 @@ enum Command {
     /// times, run k with seed k and the k-th lattice placement, and rows compare means.
     ///
     /// Example: kes-cloth study scenes/drape_wool.ron --placements 4
-    ///   --vary cloth.spacing_m=0.0125,0.01,0.0075 --vary integration.dt_s=0.00025,0.000125
+    ///   --vary cloth.spacing_m=0.0125,0.01,0.0075 --vary integration.dt_s=0.0002,0.0001
     ///   --reference cloth.spacing_m=0.005 --reference integration.dt_s=0.0000625
     Study {
         /// The scene file (RON).
