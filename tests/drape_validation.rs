@@ -95,8 +95,11 @@ fn drape_coefficient_rises_with_bending_length() {
             let file = format!("fabric={{\"File\":\"{}\"}}", path.display());
             let step = format!("integration.dt_s={dt}");
             let spacing = "cloth.spacing_m=0.01".to_string();
-            let scene =
-                Scene::load(common::crate_path("scenes/drape_wool.ron"), &[file, step, spacing]).unwrap();
+            let scene = Scene::load(
+                common::crate_path("scenes/drape_wool.ron"),
+                &[file, step, spacing],
+            )
+            .unwrap();
             let m = simulate(&scene, &RunOptions::default()).metrics;
             assert!(m.settled, "{} did not settle", scene.fabric.name);
             (
