@@ -58,8 +58,6 @@ pub struct ImplicitSolver {
     /// normal (towards the node); zero for a free node. Set before each [`Self::solve`] (e.g. by
     /// [`crate::bodies::ClothBodies::read_supports`]).
     pub supports: Vec<DVec3>,
-    /// The right-hand side before the support filter.
-    rhs_free: Vec<DVec3>,
     /// Nodes pinned to a body that cannot move: their Δv is held at zero, as the pin will.
     held: Vec<bool>,
     /// Totals so far.
@@ -94,7 +92,6 @@ impl ImplicitSolver {
             inverse_diagonal: vec![1.0 / node_mass; n],
             perturbation: Perturbation::new(&topology),
             supports: vec![DVec3::ZERO; n],
-            rhs_free: vec![DVec3::ZERO; n],
             held: vec![false; n],
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
@@ -127,14 +124,14 @@ impl ImplicitSolver {
     ) -> CgReport {
         let (topo, m) = (&*self.topology, self.node_mass);
         let (pert, product) = (&mut self.perturbation, &mut self.product);
-        // b = h·F − h²·H·v.
+        // b = h·F − h²·H·v (h·M·g is added below).
         pert.set(topo, velocities);
         product.clear();
         for g in generators.iter().flatten() {
             g.add_stiffness_product(geometry, pert, h * h, true, product);
         }
         let hv = product.resolve(topo);
-        for ((b, f), hv) in self.rhs_free.iter_mut().zip(&*forces).zip(hv) {
+        for ((b, f), hv) in self.rhs.iter_mut().zip(&*forces).zip(hv) {
             *b = h * *f - *hv;
         }
         // Supported nodes: our Δv has no component along the support normal (Baraff & Witkin's
@@ -145,17 +142,11 @@ impl ImplicitSolver {
         };
         // Gravity enters the solve too, and leaves the kick again because Rapier applies it.
         // Our stiff response then balances the cloth's weight where the cloth's constraints do:
-        // solved without it, a step at rest ends where h·F = −(M + h²H)·g·h, as if the cloth
-        // weighed (M + h²H)/M times more in its stiff modes (docs/model.md §12).
+        // solved without it, a cloth at rest ends where F = −(M + h²H)·g, as if it weighed
+        // (M + h²H)/M times more in its stiff modes (docs/model.md §12).
         let weight = m * gravity;
-        for (((b, free), n), held) in self
-            .rhs
-            .iter_mut()
-            .zip(&self.rhs_free)
-            .zip(&self.supports)
-            .zip(&self.held)
-        {
-            *b = filter(*n, *held, *free + h * weight);
+        for ((b, n), held) in self.rhs.iter_mut().zip(&self.supports).zip(&self.held) {
+            *b = filter(*n, *held, *b + h * weight);
         }
         for ((dv, n), held) in self.dv.iter_mut().zip(&self.supports).zip(&self.held) {
             *dv = filter(*n, *held, *dv);
