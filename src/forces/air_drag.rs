@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ForceBuffer, ForceGenerator, Perturbation};
+use super::{ClothGeometry, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 
 /// Linear drag on every node.
 #[derive(Clone, Debug)]
@@ -44,6 +44,12 @@ impl ForceGenerator for AirDrag {
         let c = scale * self.per_node;
         for (o, d) in out.particle.iter_mut().zip(&dv.particle) {
             *o += c * *d;
+        }
+    }
+
+    fn add_damping_blocks(&self, scale: f64, matrix: &mut LinkMatrix) {
+        for c in &mut matrix.particle {
+            *c += scale * self.per_node;
         }
     }
 }

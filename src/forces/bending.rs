@@ -17,8 +17,10 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::{AngleClamp, angle_hessian_product};
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
+use super::element_stiffness::{AngleClamp, add_angle_blocks, angle_hessian_product};
+use super::{
+    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, cos_angle_gradients,
+};
 use crate::material::{ElasticCurve, Fabric, Thread};
 
 /// cos(π/4): the angle θ = π/4 where the curvature switches to its extension.
@@ -200,6 +202,14 @@ impl ForceGenerator for Bending {
             );
             out.link[l1] -= scale * hu;
             out.link[l2] += scale * hw;
+        }
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        for (s, &[l1, l2]) in self.topology.bend_links.iter().enumerate() {
+            let (u, w) = (-geometry.unit[l1 as usize], geometry.unit[l2 as usize]);
+            let tangent = self.spring_tangent(self.curve(s), u.dot(w), u.cross(w).length());
+            add_angle_blocks(geometry, matrix, matrix.bend_slot(s), tangent, scale);
         }
     }
 }

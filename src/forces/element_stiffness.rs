@@ -20,9 +20,9 @@
 //!
 //! and f''·∇c·∇cᵀ by f''₊·∇c·∇cᵀ (`docs/model.md` §12).
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
-use super::{ClothGeometry, ForceBuffer, Perturbation};
+use super::{ClothGeometry, ForceBuffer, LinkMatrix, Perturbation};
 
 /// Which positive semi-definite clamp of the element Hessian to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,6 +86,61 @@ pub(crate) fn angle_hessian_product(
     }
 }
 
+/// a·bᵀ.
+#[inline(always)]
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// The blocks (H_UU, H_UW, H_WW) of [`AngleClamp::Majorant`]'s matrix for the link vectors U, W
+/// (the matrix [`angle_hessian_product`] multiplies by, written out; same arguments).
+#[inline(always)]
+pub(crate) fn angle_hessian_blocks(
+    (u, w): (DVec3, DVec3),
+    (inv_u, inv_w): (f64, f64),
+    (f1, f2): (f64, f64),
+) -> (DMat3, DMat3, DMat3) {
+    let c = u.dot(w);
+    let (p, q) = (w - c * u, u - c * w);
+    let f2 = f2.max(0.0);
+    let side = if f1 >= 0.0 { 1.0 } else { -1.0 };
+    let strength = f1.abs();
+    let (uu, ww) = (outer(u, u), outer(w, w));
+    // Projections P_U, P_W and P_U·P_W = I − ÛÛᵀ − ŴŴᵀ + c·ÛŴᵀ.
+    let (pu, pw) = (DMat3::IDENTITY - uu, DMat3::IDENTITY - ww);
+    let pupw = DMat3::IDENTITY - uu - ww + c * outer(u, w);
+    let (np, nq) = (p.length(), q.length());
+    let mut huu = pu;
+    let mut hww = pw;
+    if np > 0.0 {
+        huu += np * uu + outer(p, p) / np;
+    }
+    if nq > 0.0 {
+        hww += nq * ww + outer(q, q) / nq;
+    }
+    (
+        (inv_u * inv_u) * (strength * huu + f2 * outer(p, p)),
+        (inv_u * inv_w) * (strength * side * pupw + f2 * outer(p, q)),
+        (inv_w * inv_w) * (strength * hww + f2 * outer(q, q)),
+    )
+}
+
+/// Adds `scale`·H of one angle element (f' and f'' in `tangent`, J) on the matrix slot whose
+/// links meet at the element's middle particle (`LinkMatrix::slot_links` gives them).
+#[inline(always)]
+pub(crate) fn add_angle_blocks(
+    geometry: &ClothGeometry,
+    matrix: &mut LinkMatrix,
+    slot: usize,
+    tangent: (f64, f64),
+    scale: f64,
+) {
+    let [(lu, su), (lw, sw)] = matrix.slot_links(slot);
+    let (unit, inv) = (&geometry.unit, &geometry.inv_length);
+    let (uu, uw, ww) = angle_hessian_blocks((su * unit[lu], sw * unit[lw]), (inv[lu], inv[lw]), tangent);
+    matrix.add_element(slot, (scale * uu, scale * uw, scale * ww));
+}
+
 impl AngleClamp {
     /// [`Self::Majorant`] for the implicit solve's `definite` matrix, else [`Self::Exact`].
     pub(crate) fn for_definite(definite: bool) -> Self {
@@ -140,5 +195,22 @@ pub(crate) fn add_link_spring_products(
         let (unit, d) = (geometry.unit[l], dx.link[l]);
         let along = unit.dot(d);
         out.link[l] += scale * (axial * along * unit + transverse * (d - along * unit));
+    }
+}
+
+/// Adds `scale`·H of a spring on every link into the link diagonal of `matrix`, the definite
+/// clamp of [`add_link_spring_products`] (same `tangent`).
+pub(crate) fn add_link_spring_blocks(
+    geometry: &ClothGeometry,
+    scale: f64,
+    matrix: &mut LinkMatrix,
+    tangent: impl Fn(usize) -> (f64, f64),
+) {
+    for (l, block) in matrix.link.iter_mut().enumerate() {
+        let (e1, e2) = tangent(l);
+        let axial = e2.max(0.0);
+        let transverse = (e1 * geometry.inv_length[l]).max(0.0);
+        let along = outer(geometry.unit[l], geometry.unit[l]);
+        *block += scale * (transverse * DMat3::IDENTITY + (axial - transverse) * along);
     }
 }

@@ -19,9 +19,11 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::{AngleClamp, add_corner_product, angle_hessian_product};
+use super::element_stiffness::{AngleClamp, add_angle_blocks, add_corner_product, angle_hessian_product};
 use super::trellising::{add_crossing_forces, crossing_gammas};
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
+use super::{
+    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, cos_angle_gradients,
+};
 use crate::material::{Fabric, FrictionResponse, HysteresisLaw, Thread};
 
 /// A trellis corner as its two links, each with the sign that points it away from the crossing.
@@ -302,6 +304,37 @@ impl ForceGenerator for Hysteresis {
                 let slope = if r.sticking { law.stick_stiffness } else { 0.0 };
                 let tangent = (q * r.value, q * slope);
                 add_corner_product(geometry, dx, ((lu, su), (lw, sw)), tangent, scale, clamp, out);
+            }
+        }
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        if let Some(laws) = &self.bending {
+            for s in 0..self.topology.bend_links.len() {
+                let shape = self.spring(geometry, s);
+                if shape.normal == DVec3::ZERO {
+                    continue;
+                }
+                // Sticking elements only, as in the product.
+                if self.bend_response(laws, s, shape.curvature).sticking {
+                    let f1 = laws[self.topology.bend_thread(s) as usize].stick_stiffness;
+                    add_angle_blocks(geometry, matrix, matrix.bend_slot(s), (f1, 0.0), scale);
+                }
+            }
+        }
+        if let Some(law) = &self.shear {
+            let q = 0.25 * self.topology.spacing * self.topology.spacing;
+            let unit = &geometry.unit;
+            for (i, &[(lu, su), (lw, sw)]) in self.corners.iter().enumerate() {
+                let r = self.corner_response(law, i, (su * unit[lu as usize]).dot(sw * unit[lw as usize]));
+                let slope = if r.sticking { law.stick_stiffness } else { 0.0 };
+                add_angle_blocks(
+                    geometry,
+                    matrix,
+                    matrix.corner_slot(i),
+                    (q * r.value, q * slope),
+                    scale,
+                );
             }
         }
     }

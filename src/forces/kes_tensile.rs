@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::add_link_spring_products;
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
+use super::element_stiffness::{add_link_spring_blocks, add_link_spring_products};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 use crate::material::{Fabric, TensileLaw, Thread};
 
 /// KES tensile springs on every thread link.
@@ -27,6 +27,17 @@ impl KesTensile {
             topology,
             law: [fabric.tensile(Thread::Warp).law, fabric.tensile(Thread::Weft).law],
         }
+    }
+}
+
+impl KesTensile {
+    /// dE/dr (N) and d²E/dr² (N/m) of link `l`.
+    fn tangent(&self, geometry: &ClothGeometry, l: usize) -> (f64, f64) {
+        let sigma = self.topology.spacing;
+        let law = &self.law[self.topology.link_thread(l) as usize];
+        let strain = geometry.length[l] / sigma - 1.0;
+        // dE/dr = σ·T(ε), d²E/dr² = T'(ε) (dε/dr = 1/σ).
+        (sigma * law.tension(strain), law.stiffness(strain))
     }
 }
 
@@ -72,12 +83,10 @@ impl ForceGenerator for KesTensile {
         definite: bool,
         out: &mut ForceBuffer,
     ) {
-        let (topo, sigma) = (&self.topology, self.topology.spacing);
-        add_link_spring_products(geometry, dx, scale, definite, out, |l| {
-            let law = &self.law[topo.link_thread(l) as usize];
-            let strain = geometry.length[l] / sigma - 1.0;
-            // dE/dr = σ·T(ε), d²E/dr² = T'(ε) (dε/dr = 1/σ).
-            (sigma * law.tension(strain), law.stiffness(strain))
-        });
+        add_link_spring_products(geometry, dx, scale, definite, out, |l| self.tangent(geometry, l));
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        add_link_spring_blocks(geometry, scale, matrix, |l| self.tangent(geometry, l));
     }
 }

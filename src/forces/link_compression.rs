@@ -13,13 +13,13 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::add_link_spring_products;
+use super::element_stiffness::{add_link_spring_blocks, add_link_spring_products};
 use crate::material::{Fabric, Thread};
 
 /// How many times the Euler buckling load of a one-spacing strip the default compression
 /// modulus is (dimensionless): a link buckles before it shortens by 1 % (`docs/model.md` §9).
 pub const BUCKLING_MARGIN: f64 = 100.0;
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 
 /// One-sided compression springs on every thread link.
 #[derive(Clone, Debug)]
@@ -46,6 +46,22 @@ impl LinkCompression {
             .rigidity
             .max(fabric.bending(Thread::Weft).rigidity);
         BUCKLING_MARGIN * std::f64::consts::PI.powi(2) * rigidity / (spacing * spacing)
+    }
+}
+
+impl LinkCompression {
+    /// dE/dr (N) and d²E/dr² (N/m) of a link of length `r` (m), or of its definite stand-in.
+    fn tangent(&self, r: f64, definite: bool) -> (f64, f64) {
+        let (k, sigma) = (self.stiffness, self.topology.spacing);
+        // E = ½k(σ − r)² below σ: dE/dr = −k(σ − r), d²E/dr² = k. The rope joint holds a
+        // stretched link: the solver's matrix gives stretch the same axial stiffness, so
+        // the velocity change it computes keeps the links' lengths as the joint will (a
+        // majorant: the exact Hessian is 0 there).
+        match (r < sigma, definite) {
+            (true, _) => (-k * (sigma - r), k),
+            (false, true) => (0.0, k),
+            (false, false) => (0.0, 0.0),
+        }
     }
 }
 
@@ -88,18 +104,14 @@ impl ForceGenerator for LinkCompression {
         definite: bool,
         out: &mut ForceBuffer,
     ) {
-        let (k, sigma) = (self.stiffness, self.topology.spacing);
         add_link_spring_products(geometry, dx, scale, definite, out, |l| {
-            let r = geometry.length[l];
-            // E = ½k(σ − r)² below σ: dE/dr = −k(σ − r), d²E/dr² = k. The rope joint holds a
-            // stretched link: the solver's matrix gives stretch the same axial stiffness, so
-            // the velocity change it computes keeps the links' lengths as the joint will (a
-            // majorant: the exact Hessian is 0 there).
-            match (r < sigma, definite) {
-                (true, _) => (-k * (sigma - r), k),
-                (false, true) => (0.0, k),
-                (false, false) => (0.0, 0.0),
-            }
+            self.tangent(geometry.length[l], definite)
+        });
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        add_link_spring_blocks(geometry, scale, matrix, |l| {
+            self.tangent(geometry.length[l], true)
         });
     }
 }

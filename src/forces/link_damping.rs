@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 
 /// Relative-velocity damping on every thread link.
 #[derive(Clone, Debug)]
@@ -54,6 +54,13 @@ impl ForceGenerator for LinkDamping {
         let c = scale * self.coefficient;
         for (o, d) in out.link.iter_mut().zip(&dv.link) {
             *o += c * *d;
+        }
+    }
+
+    fn add_damping_blocks(&self, scale: f64, matrix: &mut LinkMatrix) {
+        let c = glam::DMat3::from_diagonal(DVec3::splat(scale * self.coefficient));
+        for block in &mut matrix.link {
+            *block += c;
         }
     }
 }

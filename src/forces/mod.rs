@@ -16,7 +16,9 @@
 //! | bending and shear hysteresis (KES 2HB, 2HG, 2HG5) | [`hysteresis`] | friction elements, dissipative |
 //!
 //! Each generator also gives the products of its energy Hessian and damping matrix with a
-//! perturbation, which the implicit integrator ([`crate::implicit`]) solves with.
+//! perturbation (matrix-free, the reference the tests check against finite differences) and the
+//! same matrices assembled into a [`LinkMatrix`], which the implicit integrator
+//! ([`crate::implicit`]) solves with.
 
 pub mod air_drag;
 pub mod bending;
@@ -29,6 +31,7 @@ pub mod hysteresis;
 pub mod kes_tensile;
 pub mod link_compression;
 pub mod link_damping;
+mod link_matrix;
 mod perturbation;
 pub mod seed_separation;
 pub mod trellising;
@@ -46,6 +49,7 @@ pub use hysteresis::{FrictionState, Hysteresis};
 pub use kes_tensile::KesTensile;
 pub use link_compression::{BUCKLING_MARGIN, LinkCompression};
 pub use link_damping::LinkDamping;
+pub use link_matrix::LinkMatrix;
 pub use perturbation::Perturbation;
 pub use seed_separation::SeedSeparation;
 pub use trellising::Trellising;
@@ -79,6 +83,15 @@ pub trait ForceGenerator: Send + Sync {
     /// Adds `scale`·C·δv into `out`, C = −∂F/∂v the damping matrix (N·s/m), for the velocity
     /// change δv (m/s) in `dv`. Elastic effects add nothing (the default).
     fn add_damping_product(&self, _dv: &Perturbation, _scale: f64, _out: &mut ForceBuffer) {}
+
+    /// Adds `scale`·H into the assembled `matrix`, H the positive semi-definite clamp of this
+    /// effect's Hessian (the matrix [`Self::add_stiffness_product`] multiplies by with
+    /// `definite`). Effects without stiffness add nothing (the default).
+    fn add_stiffness_blocks(&self, _geometry: &ClothGeometry, _scale: f64, _matrix: &mut LinkMatrix) {}
+
+    /// Adds `scale`·C into the assembled `matrix`, C the damping matrix of
+    /// [`Self::add_damping_product`]. Elastic effects add nothing (the default).
+    fn add_damping_blocks(&self, _scale: f64, _matrix: &mut LinkMatrix) {}
 
     /// Moves the effect's internal state (friction slips) to the configuration `geometry`, once
     /// per step before its forces are taken; forces then read that state without changing it.

@@ -13,8 +13,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::add_link_spring_products;
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
+use super::element_stiffness::{add_link_spring_blocks, add_link_spring_products};
+use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 use crate::material::{Fabric, Thread};
 
 /// The seed's separation springs on every thread link.
@@ -123,6 +123,12 @@ impl ForceGenerator for SeedSeparation {
         out: &mut ForceBuffer,
     ) {
         add_link_spring_products(geometry, dx, scale, definite, out, |l| {
+            self.link_tangent(self.c0[self.topology.link_thread(l) as usize], geometry.length[l])
+        });
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        add_link_spring_blocks(geometry, scale, matrix, |l| {
             self.link_tangent(self.c0[self.topology.link_thread(l) as usize], geometry.length[l])
         });
     }

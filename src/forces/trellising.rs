@@ -12,8 +12,10 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::element_stiffness::{AngleClamp, add_corner_product};
-use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation, cos_angle_gradients};
+use super::element_stiffness::{AngleClamp, add_angle_blocks, add_corner_product};
+use super::{
+    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, cos_angle_gradients,
+};
 use crate::material::{ElasticCurve, Fabric};
 
 /// Four trellis springs per interior crossing.
@@ -173,6 +175,17 @@ impl ForceGenerator for Trellising {
         }
         for &[lu, lw] in &topo.corner_links {
             corner((lu.index(), lu.sign()), (lw.index(), lw.sign()));
+        }
+    }
+
+    fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
+        let q = 0.25 * self.topology.spacing * self.topology.spacing;
+        for i in 0..self.topology.corner_count() {
+            let slot = matrix.corner_slot(i);
+            let [(lu, su), (lw, sw)] = matrix.slot_links(slot);
+            let gamma = (su * geometry.unit[lu]).dot(sw * geometry.unit[lw]);
+            let tangent = (q * self.force.value(gamma), q * self.force.slope(gamma));
+            add_angle_blocks(geometry, matrix, slot, tangent, scale);
         }
     }
 }

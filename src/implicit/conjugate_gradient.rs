@@ -17,14 +17,14 @@ fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
 
 /// Solves A·x = b, starting from the `x` passed in (a warm start), until |b − A·x| ≤
 /// `tolerance`·|b| or `max_iterations` products. `apply(p, out)` writes A·p into `out`;
-/// `inverse_diagonal` is the Jacobi preconditioner (1/A_ii per particle, for all three axes).
-/// `r`, `p`, `ap` are scratch buffers of the same length as `b`.
+/// `precondition(r, z)` writes z = P·r for a symmetric positive definite P ≈ A⁻¹.
+/// `r`, `z`, `p`, `ap` are scratch buffers of the same length as `b`.
 #[allow(clippy::too_many_arguments)]
 pub fn conjugate_gradient(
     mut apply: impl FnMut(&[DVec3], &mut [DVec3]),
+    precondition: impl Fn(&[DVec3], &mut [DVec3]),
     b: &[DVec3],
     x: &mut [DVec3],
-    inverse_diagonal: &[f64],
     (r, z, p, ap): (&mut [DVec3], &mut [DVec3], &mut [DVec3], &mut [DVec3]),
     tolerance: f64,
     max_iterations: usize,
@@ -37,8 +37,8 @@ pub fn conjugate_gradient(
     apply(x, ap);
     for i in 0..b.len() {
         r[i] = b[i] - ap[i];
-        z[i] = r[i] * inverse_diagonal[i];
     }
+    precondition(r, z);
     p.copy_from_slice(z);
     let mut rz = dot(r, z);
     let target = tolerance * b_norm;
@@ -55,8 +55,8 @@ pub fn conjugate_gradient(
         for i in 0..b.len() {
             x[i] += alpha * p[i];
             r[i] -= alpha * ap[i];
-            z[i] = r[i] * inverse_diagonal[i];
         }
+        precondition(r, z);
         residual = dot(r, r).sqrt();
         let rz_next = dot(r, z);
         let beta = rz_next / rz;

@@ -1,11 +1,11 @@
-//! One backward-Euler velocity solve per step, matrix-free.
+//! One backward-Euler velocity solve per step, on the matrix assembled for that step.
 
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::conjugate_gradient::{CgReport, conjugate_gradient};
-use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Perturbation};
+use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 
 /// Conjugate-gradient settings of the implicit solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,7 +51,10 @@ pub struct ImplicitSolver {
     dv: Vec<DVec3>,
     rhs: Vec<DVec3>,
     scratch: [Vec<DVec3>; 4],
-    inverse_diagonal: Vec<f64>,
+    /// h²·H + h·C of the current step, assembled once per solve.
+    matrix: LinkMatrix,
+    /// Inverse of each node's 3×3 diagonal block of the filtered system (block Jacobi).
+    preconditioner: Vec<DMat3>,
     perturbation: Perturbation,
     product: ForceBuffer,
     /// For each node that a fixed surface pushed in Rapier's last step, that surface's unit
@@ -89,7 +92,8 @@ impl ImplicitSolver {
             dv: vec![DVec3::ZERO; n],
             rhs: vec![DVec3::ZERO; n],
             scratch: std::array::from_fn(|_| vec![DVec3::ZERO; n]),
-            inverse_diagonal: vec![1.0 / node_mass; n],
+            matrix: LinkMatrix::new(&topology),
+            preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: vec![DVec3::ZERO; n],
             held: vec![false; n],
@@ -123,16 +127,19 @@ impl ImplicitSolver {
         (h, gravity): (f64, DVec3),
     ) -> CgReport {
         let (topo, m) = (&*self.topology, self.node_mass);
-        let (pert, product) = (&mut self.perturbation, &mut self.product);
-        // b = h·F − h²·H·v (h·M·g is added below).
-        pert.set(topo, velocities);
-        product.clear();
+        let (pert, product, matrix) = (&mut self.perturbation, &mut self.product, &mut self.matrix);
+        // Assemble h²·H, and with it b = h·F − h²·H·v (h·M·g is added below); then add h·C.
+        matrix.clear();
         for g in generators.iter().flatten() {
-            g.add_stiffness_product(geometry, pert, h * h, true, product);
+            g.add_stiffness_blocks(geometry, h * h, matrix);
         }
-        let hv = product.resolve(topo);
+        pert.set(topo, velocities);
+        let hv = matrix.product(topo, pert, product);
         for ((b, f), hv) in self.rhs.iter_mut().zip(&*forces).zip(hv) {
             *b = h * *f - *hv;
+        }
+        for g in generators.iter().flatten() {
+            g.add_damping_blocks(h, matrix);
         }
         // Supported nodes: our Δv has no component along the support normal (Baraff & Witkin's
         // filtered CG), so the surface, not the rest of the cloth, carries what presses on them.
@@ -151,19 +158,42 @@ impl ImplicitSolver {
         for ((dv, n), held) in self.dv.iter_mut().zip(&self.supports).zip(&self.held) {
             *dv = filter(*n, *held, *dv);
         }
+        // Block Jacobi: each node's own 3×3 block of the filtered system P·A·P, inverted on the
+        // plane the filter leaves free (the normal gets m, which the filter then removes again).
+        self.preconditioner.fill(DMat3::from_diagonal(DVec3::splat(m)));
+        matrix.add_particle_diagonal(topo, &mut self.preconditioner);
+        for ((block, n), held) in self.preconditioner.iter_mut().zip(&self.supports).zip(&self.held) {
+            *block = if *held {
+                DMat3::ZERO
+            } else if *n == DVec3::ZERO {
+                block.inverse()
+            } else {
+                let plane = DMat3::IDENTITY - outer(*n, *n);
+                let free = plane * *block * plane + m * outer(*n, *n);
+                plane * free.inverse() * plane
+            };
+        }
+        let preconditioner = &self.preconditioner;
         let (supports, held) = (&self.supports, &self.held);
+        let matrix = &*matrix;
         let apply = |x: &[DVec3], out: &mut [DVec3]| {
-            apply_system(generators, geometry, (pert, product), (m, h), x, out);
-            for ((o, n), held) in out.iter_mut().zip(supports).zip(held) {
-                *o = filter(*n, *held, *o);
+            pert.set(topo, x);
+            let ax = matrix.product(topo, pert, product);
+            for ((((o, ax), x), n), held) in out.iter_mut().zip(ax).zip(x).zip(supports).zip(held) {
+                *o = filter(*n, *held, m * *x + *ax);
+            }
+        };
+        let precondition = |r: &[DVec3], z: &mut [DVec3]| {
+            for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
+                *z = *block * *r;
             }
         };
         let [r, z, p, ap] = &mut self.scratch;
         let report = conjugate_gradient(
             apply,
+            precondition,
             &self.rhs,
             &mut self.dv,
-            &self.inverse_diagonal,
             (r, z, p, ap),
             self.settings.tolerance,
             self.settings.max_iterations,
@@ -186,23 +216,7 @@ impl ImplicitSolver {
     }
 }
 
-/// out = (M + h·C + h²·H)·x for nodes of mass `m` (kg) and step `h` (s).
-fn apply_system(
-    generators: &[Option<&dyn ForceGenerator>],
-    geometry: &ClothGeometry,
-    (pert, product): (&mut Perturbation, &mut ForceBuffer),
-    (m, h): (f64, f64),
-    x: &[DVec3],
-    out: &mut [DVec3],
-) {
-    let topo = geometry.topology();
-    pert.set(topo, x);
-    product.clear();
-    for g in generators.iter().flatten() {
-        g.add_stiffness_product(geometry, pert, h * h, true, product);
-        g.add_damping_product(pert, h, product);
-    }
-    for ((o, ax), x) in out.iter_mut().zip(product.resolve(topo)).zip(x) {
-        *o = m * *x + *ax;
-    }
+/// a·bᵀ.
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }

@@ -8,8 +8,10 @@
 //! 2. forms b = h·(F + M·g − h·H·v), H the clamped, positive semi-definite Hessian of our
 //!    energies ([`crate::forces::ForceGenerator::add_stiffness_product`]) and g the nodes'
 //!    gravity, so that the step's fixed point is the cloth's true equilibrium F + M·g = 0;
-//! 3. solves (M + h·C + h²·H)·Δv = b by conjugate gradients, matrix-free, warm-started from the
-//!    previous step's Δv (C the damping matrix of the dissipative effects), with the normal
+//! 3. assembles h²·H and h·C (C the damping matrix of the dissipative effects) block by block
+//!    ([`crate::forces::LinkMatrix`]) and solves (M + h·C + h²·H)·Δv = b by conjugate gradients,
+//!    preconditioned by the inverse of each node's 3×3 diagonal block and warm-started from
+//!    the previous step's Δv, with the normal
 //!    component of Δv held at zero for nodes that a fixed surface pushed in Rapier's last step
 //!    (Baraff & Witkin's filter, with Rapier's contact impulses as the active set), and the
 //!    whole Δv held at zero for nodes pinned to a body that cannot move;
