@@ -128,6 +128,30 @@ fn set_overrides_reach_nested_fields_and_reject_unknown_ones() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no field `world.colliders.9`"), "{e}");
+    // Regression (an enum variant with fields, written as the file writes it, was refused:
+    // "unknown variant `Dynamic(mass_kg: ...)`").
+    let ball = common::crate_path("scenes/hard/ball_impact.ron");
+    let s = Scene::load(
+        &ball,
+        &["world.colliders.0.motion=Dynamic(mass_kg: 0.05, velocity_m_per_s: (0.0, -1.0, 0.0))".into()],
+    )
+    .unwrap();
+    assert_eq!(
+        s.spec.world.colliders[0].motion,
+        kes_cloth::scene::ColliderMotion::Dynamic {
+            mass_kg: 0.05,
+            velocity_m_per_s: [0.0, -1.0, 0.0]
+        }
+    );
+    let s = Scene::load(&path, &["cloth.shape=Square(side_m: 0.3)".into()]).unwrap();
+    assert_eq!(
+        s.spec.cloth.shape,
+        kes_cloth::scene::ClothShape::Square { side_m: 0.3 }
+    );
+    let e = Scene::load(&ball, &["world.colliders.0.motion=Dynamic(mass: 0.05)".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("mass"), "{e}");
     // Text that happens to read as RON still reaches a text field as text: the fabric path
     // `(1, 2)`, valid RON for a list, is looked up as a file (and is missing), not refused.
     let e = Scene::load(&path, &["fabric.File=(1, 2)".into()])

@@ -47,8 +47,9 @@ enum Command {
         /// Override a scene field by its path, e.g. `integration.dt_s=0.0005`,
         /// `cloth.spacing_m=0.008`, `seed=7`, `effects.stretch=Kes`, `cloth.centre_m=(0, 0.02, 0)`,
         /// `world.colliders.0.friction=0` (a list element by its index), `cloth.pins_m=[(0, 0.5,
-        /// 0), (0.1, 0.5, 0)]` (values are written as in the scene file; quote them for the
-        /// shell). Repeatable.
+        /// 0), (0.1, 0.5, 0)]`, `"world.colliders.0.motion=Dynamic(mass_kg: 0.05,
+        /// velocity_m_per_s: (0, -10, 0))"` (values are written as in the scene file; quote them
+        /// for the shell). Repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// No progress bar and no summary.

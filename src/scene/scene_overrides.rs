@@ -39,20 +39,43 @@ pub(crate) fn apply(scene: &SceneFile, assignment: &str) -> Result<SceneFile, St
 
 /// Numbers, booleans, arrays and quoted strings read as JSON; a parenthesised value or a list
 /// as RON, the way scene files write them (`(0.0, 0.01, 0.0)`, `(max_speed_m_per_s: 0.002,
-/// hold_s: 1.0)`, `[(0.0, 0.5, 0.0), (0.1, 0.5, 0.0)]`); a bare word (an enum variant such as
-/// `Kes`, or a path) as a string.
+/// hold_s: 1.0)`, `[(0.0, 0.5, 0.0), (0.1, 0.5, 0.0)]`); an enum variant with fields as the file
+/// writes it (`Dynamic(mass_kg: 0.05, velocity_m_per_s: (0.0, -10.0, 0.0))`, `Circle(diameter_m:
+/// 0.3)`); a bare word (a variant such as `Kes`, or a path) as a string.
 fn parse_value(raw: &str) -> serde_json::Value {
     let string = || serde_json::Value::String(raw.to_string());
     if let Ok(v) = serde_json::from_str(raw) {
         return v;
     }
     if raw.starts_with('(') || raw.starts_with('[') {
-        return ron::from_str::<ron::Value>(raw)
-            .ok()
-            .and_then(|v| serde_json::to_value(v).ok())
-            .unwrap_or_else(string);
+        return parse_ron(raw).unwrap_or_else(string);
+    }
+    // `Name(fields)`: serde's external tag, {"Name": fields}; one unnamed field is the value.
+    if let Some(name) = raw.split_once('(').map(|(name, _)| name)
+        && raw.ends_with(')')
+        && is_identifier(name.trim())
+        && let Some(inner) = parse_ron(&raw[name.len()..])
+    {
+        let inner = match inner {
+            serde_json::Value::Array(mut items) if items.len() == 1 => items.remove(0),
+            other => other,
+        };
+        return serde_json::json!({ name.trim(): inner });
     }
     string()
+}
+
+/// A RON value as JSON (struct and variant names dropped), if `raw` is RON.
+fn parse_ron(raw: &str) -> Option<serde_json::Value> {
+    ron::from_str::<ron::Value>(raw)
+        .ok()
+        .and_then(|v| serde_json::to_value(v).ok())
+}
+
+fn is_identifier(word: &str) -> bool {
+    let mut chars = word.chars();
+    chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// The value of the field at `key` (a `--set` path) as JSON, if the scene has it.
