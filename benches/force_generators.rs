@@ -1,7 +1,8 @@
 //! Cost of one evaluation of all KES force generators on a 100 × 100 grid (10 000 particles),
 //! including the shared link-geometry pass. Criterion reports time per evaluation and, through
 //! the element throughput, particles per second; ns per particle = 1e9 / (elements/s).
-//! Target (issue 2): ≤ 60 ns per particle on one core.
+//! Target (issue 2): ≤ 60 ns per particle on one core. The last three entries time the implicit
+//! solve's per-step assembly and one CG product, assembled and matrix-free (issue 10).
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -10,7 +11,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use kes_cloth::forces::{
     Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile,
-    LinkCompression, LinkDamping, SeedSeparation, Trellising,
+    LinkCompression, LinkDamping, LinkMatrix, Perturbation, SeedSeparation, Trellising,
 };
 use kes_cloth::material::Fabric;
 
@@ -88,6 +89,42 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function("hysteresis_advance", |b| {
         b.iter(|| hysteresis.advance_state(black_box(&geo)))
+    });
+    // The implicit solve's two costs for the shipped scene set at 1/240 s: assembling h²H + hC
+    // once per step, and one CG product with the assembled matrix (a solve takes 20-60).
+    geo.update(&x);
+    let h = 1.0 / 240.0;
+    let shipped: [&dyn ForceGenerator; 4] = [&bending, &trellising, &compression, &damping];
+    let mut matrix = LinkMatrix::new(&topo);
+    let assemble = |matrix: &mut LinkMatrix| {
+        matrix.clear();
+        for g in shipped {
+            g.add_stiffness_blocks(&geo, h * h, matrix);
+            g.add_damping_blocks(h, matrix);
+        }
+    };
+    group.bench_function("implicit_assembly_shipped_set", |b| {
+        b.iter(|| assemble(black_box(&mut matrix)))
+    });
+    assemble(&mut matrix);
+    let mut dx = Perturbation::new(&topo);
+    dx.set(&topo, &x);
+    group.bench_function("implicit_product_assembled", |b| {
+        b.iter(|| {
+            dx.set(&topo, black_box(&x));
+            black_box(matrix.product(&topo, &dx, &mut f).len())
+        })
+    });
+    group.bench_function("implicit_product_matrix_free", |b| {
+        b.iter(|| {
+            dx.set(&topo, black_box(&x));
+            f.clear();
+            for g in shipped {
+                g.add_stiffness_product(&geo, &dx, h * h, true, &mut f);
+                g.add_damping_product(&dx, h, &mut f);
+            }
+            black_box(f.resolve(&topo).len())
+        })
     });
     group.finish();
 }
