@@ -55,8 +55,8 @@ fn builtin_cloth(scene: &Scene, nodes: usize) -> PhysicsWorld {
         &mut world,
         spec.world.gravity_m_per_s2,
         i.dt_s,
-        i.solver_iterations,
-        i.internal_pgs_iterations,
+        (i.solver_iterations, i.internal_pgs_iterations),
+        spec.world.contact.stiffness(),
     );
     for (col, (shape, _)) in spec.world.colliders.iter().zip(world_shapes(scene)) {
         add_world_collider(&mut world, shape, col.centre_m, col.friction, 0.0, None);

@@ -5,7 +5,7 @@
 //! nodes moved at 4 m/s; with 4 it blew up within 0.05 s).
 
 use glam::DVec3;
-use kes_cloth::bodies::{ClothBodies, NodeOptions, configure_world};
+use kes_cloth::bodies::{ClothBodies, ContactStiffness, NodeOptions, configure_world};
 use kes_cloth::forces::ClothTopology;
 use kes_cloth::run::{RunOptions, simulate};
 use kes_cloth::scene::Scene;
@@ -22,7 +22,13 @@ fn a_kick_moves_a_free_node_by_symplectic_euler_at_any_substep_count() {
     let (mass, dt, force) = (35e-6, 1.25e-4, DVec3::new(2e-3, -1e-3, 5e-4));
     for substeps in [1, 2, 4, 8] {
         let mut world = PhysicsWorld::default();
-        configure_world(&mut world, [0.0; 3], dt, substeps, 4);
+        configure_world(
+            &mut world,
+            [0.0; 3],
+            dt,
+            (substeps, 4),
+            ContactStiffness::default(),
+        );
         let topology = ClothTopology::rectangle(1, 1, 0.01);
         let options = NodeOptions {
             mass,

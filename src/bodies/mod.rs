@@ -13,4 +13,4 @@ mod world_settings;
 
 pub use cloth_bodies::{ClothBodies, NodeOptions};
 pub use world_colliders::{ThrownBody, WorldShape, add_world_collider};
-pub use world_settings::configure_world;
+pub use world_settings::{ContactStiffness, configure_world};

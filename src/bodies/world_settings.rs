@@ -2,12 +2,37 @@
 
 use rapier3d::prelude::*;
 
+/// Damping ratio of every contact (dimensionless): Rapier's default, 10.
+const CONTACT_DAMPING_RATIO: f32 = 10.0;
+
+/// How stiff Rapier's contacts are: the natural frequency of the soft contact constraint (Hz).
+/// A stiffer contact lets a body sink less under a given load (sinking ∝ load/frequency²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactStiffness {
+    /// Contacts with a fixed body (Hz; default 960). At Rapier's 60 Hz light rim nodes sank
+    /// ~3 mm into the drapemeter's disk edge, at 240 Hz up to 0.5 mm; 960 Hz keeps a drape's
+    /// deepest node within 0.2 mm.
+    pub fixed_hz: f64,
+    /// Contacts between two moving bodies: nodes with each other (self-collision) or with a
+    /// thrown ball (Hz; default 30, Rapier's).
+    pub moving_hz: f64,
+}
+
+impl Default for ContactStiffness {
+    fn default() -> Self {
+        Self {
+            fixed_hz: 960.0,
+            moving_hz: 30.0,
+        }
+    }
+}
+
 /// Sets the step and solver, and scales Rapier's metre-scale contact distances to cloth.
 ///
 /// - contact recycling off: with it, rim nodes rest on stale top-face contacts and the skirt
 ///   hangs too far out (measured: DC 0.12–0.14 instead of 0.03–0.05, `../shared` notes);
-/// - fixed-contact softness 960 Hz: at Rapier's 60 Hz light rim nodes sank ~3 mm into the disk
-///   edge, at 240 Hz up to 0.5 mm; 960 Hz keeps a drape's deepest node within 0.2 mm;
+/// - contact stiffness from `contact` ([`ContactStiffness`]; by default 960 Hz against fixed
+///   bodies, Rapier's 30 Hz between moving ones);
 /// - friction in the bias pass: without it, the position correction slides rim nodes along the
 ///   disk without friction, and a skirt on a sharp rim creeps by millimetres after it settled;
 /// - joints warm-started: stiff rope chains converge in fewer sweeps;
@@ -16,8 +41,8 @@ pub fn configure_world(
     world: &mut PhysicsWorld,
     gravity: [f64; 3],
     dt: f64,
-    solver_iterations: usize,
-    pgs_iterations: usize,
+    (solver_iterations, pgs_iterations): (usize, usize),
+    contact: ContactStiffness,
 ) {
     world.gravity = Vector::new(gravity[0] as f32, gravity[1] as f32, gravity[2] as f32);
     let p = &mut world.integration_parameters;
@@ -25,7 +50,8 @@ pub fn configure_world(
     p.num_solver_iterations = solver_iterations;
     p.num_internal_pgs_iterations = pgs_iterations;
     p.contact_recycling = false;
-    p.static_contact_softness = SpringCoefficients::new(960.0, 10.0);
+    p.static_contact_softness = SpringCoefficients::new(contact.fixed_hz as f32, CONTACT_DAMPING_RATIO);
+    p.contact_softness = SpringCoefficients::new(contact.moving_hz as f32, CONTACT_DAMPING_RATIO);
     p.friction_in_bias_pass = true;
     p.warmstart_joints = true;
     p.normalized_prediction_distance = 0.005;

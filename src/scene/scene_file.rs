@@ -114,6 +114,52 @@ pub struct WorldSpec {
     pub gravity_m_per_s2: [f64; 3],
     /// Fixed colliders the cloth can touch.
     pub colliders: Vec<ColliderSpec>,
+    /// How stiff contacts are (default: 960 Hz against fixed colliders, 30 Hz between moving
+    /// bodies).
+    #[serde(default)]
+    pub contact: ContactSpec,
+}
+
+/// Stiffness of Rapier's soft contacts, as the natural frequency of the contact spring (Hz).
+/// A body under a load F sinks about F/(m·(2π·f)²) into what it touches.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Contacts with fixed colliders (Hz, > 0; default 960: the drapemeter's rim holds a node
+    /// within 0.2 mm).
+    #[serde(default = "default_fixed_hz")]
+    pub fixed_hz: f64,
+    /// Contacts between moving bodies: cloth nodes with each other and with thrown balls (Hz,
+    /// > 0; default 30, Rapier's own).
+    #[serde(default = "default_moving_hz")]
+    pub moving_hz: f64,
+}
+
+impl ContactSpec {
+    /// The settings Rapier's world is configured with.
+    pub fn stiffness(&self) -> crate::bodies::ContactStiffness {
+        crate::bodies::ContactStiffness {
+            fixed_hz: self.fixed_hz,
+            moving_hz: self.moving_hz,
+        }
+    }
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        Self {
+            fixed_hz: default_fixed_hz(),
+            moving_hz: default_moving_hz(),
+        }
+    }
+}
+
+fn default_fixed_hz() -> f64 {
+    crate::bodies::ContactStiffness::default().fixed_hz
+}
+
+fn default_moving_hz() -> f64 {
+    crate::bodies::ContactStiffness::default().moving_hz
 }
 
 fn default_gravity() -> [f64; 3] {

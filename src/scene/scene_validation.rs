@@ -175,6 +175,14 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
     }
 
     finite3("world.gravity_m_per_s2", s.world.gravity_m_per_s2)?;
+    in_open_closed("world.contact.fixed_hz", s.world.contact.fixed_hz, 0.0, 1e6, "Hz")?;
+    in_open_closed(
+        "world.contact.moving_hz",
+        s.world.contact.moving_hz,
+        0.0,
+        1e6,
+        "Hz",
+    )?;
     for (i, col) in s.world.colliders.iter().enumerate() {
         let f = |name: &str| format!("world.colliders[{i}].{name}");
         finite3(&f("centre_m"), col.centre_m)?;

@@ -95,8 +95,8 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         &mut physics,
         spec.world.gravity_m_per_s2,
         i.dt_s,
-        i.solver_iterations,
-        i.internal_pgs_iterations,
+        (i.solver_iterations, i.internal_pgs_iterations),
+        spec.world.contact.stiffness(),
     );
     let radius = scene.node_radius();
     let mut moving = Vec::new();
