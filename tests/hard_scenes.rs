@@ -186,3 +186,19 @@ fn a_damped_hanging_cloth_never_gains_energy() {
         "still moving after 10 s: kinetic energy {kinetic:e} J"
     );
 }
+
+/// Regression (`kes-cloth check` left out a thrown ball's mass and velocity, and the contact
+/// stiffness): the description names both.
+#[test]
+fn check_describes_the_thrown_ball_and_the_contact_stiffness() {
+    let scene = Scene::load(common::crate_path("scenes/hard/heavy_ball_impact.ron"), &[]).unwrap();
+    let text = kes_cloth::scene::describe(&scene);
+    assert!(
+        text.contains("dynamic, 0.01 kg thrown at [0.0, -10.0, 0.0] m/s"),
+        "{text}"
+    );
+    assert!(
+        text.contains("contact stiffness 960 Hz against fixed bodies, 960 Hz between moving ones"),
+        "{text}"
+    );
+}

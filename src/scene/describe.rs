@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::{Scene, StretchModel, spawn::cloth_grid};
+use super::{ColliderMotion, Scene, StretchModel, spawn::cloth_grid};
 use crate::forces::{BUCKLING_MARGIN, LinkCompression};
 use crate::material::Thread;
 
@@ -48,11 +48,22 @@ pub fn describe(scene: &Scene) -> String {
         scene.node_radius(),
         s.cloth.warp_angle_deg
     );
-    let _ = writeln!(out, "world: gravity {:?} m/s²", s.world.gravity_m_per_s2);
+    let _ = writeln!(
+        out,
+        "world: gravity {:?} m/s², contact stiffness {} Hz against fixed bodies, {} Hz between moving ones",
+        s.world.gravity_m_per_s2, s.world.contact.fixed_hz, s.world.contact.moving_hz
+    );
     for c in &s.world.colliders {
+        let motion = match c.motion {
+            ColliderMotion::Fixed => String::from("fixed"),
+            ColliderMotion::Dynamic {
+                mass_kg,
+                velocity_m_per_s,
+            } => format!("dynamic, {mass_kg} kg thrown at {velocity_m_per_s:?} m/s"),
+        };
         let _ = writeln!(
             out,
-            "  {}: {:?} at {:?} m, friction {}",
+            "  {}: {:?} at {:?} m, friction {}, {motion}",
             c.name, c.shape, c.centre_m, c.friction
         );
     }
