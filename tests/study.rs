@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 use kes_cloth::forces::ClothTopology;
-use kes_cloth::study::{ReferenceSurface, StudyPlan, Vary};
+use kes_cloth::study::{ReferenceSurface, Refusal, StudyPlan, Vary};
 
 mod common;
 
@@ -166,8 +166,11 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
     assert_eq!(study.rows.len(), 1);
     assert_eq!(study.rows[0].setting[0].1, "0.00025");
     assert_eq!(study.refused.len(), 1);
-    assert_eq!(study.refused[0].effect, "compression");
-    assert!((study.refused[0].max_step_s - 3.877e-4).abs() < 0.01e-4);
+    let Refusal::StepTooLong { effect, max_step_s } = study.refused[0].why else {
+        panic!("{:?}", study.refused[0]);
+    };
+    assert_eq!(effect, "compression");
+    assert!((max_step_s - 3.877e-4).abs() < 0.01e-4);
     let (md, _) = written(&study, "refused");
     assert!(
         md.contains("refused by the stability guard") && md.contains("0.0005"),
@@ -177,7 +180,40 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
     let Err(err) = kes_cloth::study::run_study(&scene, &base, &step_plan("0.0005", 1), 2, |_, _| {}) else {
         panic!("a study with every point refused must fail");
     };
-    assert!(err.to_string().contains("refuses every grid point"), "{err}");
+    assert!(err.to_string().contains("every grid point is refused"), "{err}");
+}
+
+/// Regression (a study putting the explicit and the implicit integrator on one grid stopped at
+/// its first point: explicit damping of 150/s is invalid at 1/240 s, which only the implicit
+/// points can take): such a point is listed with the field and its range, the others run.
+#[test]
+fn a_study_lists_points_another_rule_refuses_and_runs_the_rest() {
+    let plan = StudyPlan {
+        vary: vec![
+            "integration.dt_s=0.0041666667".parse::<Vary>().unwrap(),
+            "integration.integrator=Explicit,Implicit"
+                .parse::<Vary>()
+                .unwrap(),
+        ],
+        reference: vec![
+            "integration.dt_s=0.00025".into(),
+            "integration.integrator=Explicit".into(),
+        ],
+        placements: 1,
+    };
+    let base = wool_at_1cm(0.05);
+    let scene = common::crate_path("scenes/drape_wool.ron");
+    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    assert_eq!(study.rows.len(), 1);
+    assert_eq!(study.rows[0].setting[1].1, "Implicit");
+    assert_eq!(study.refused.len(), 1);
+    let Refusal::Invalid { field, message } = &study.refused[0].why else {
+        panic!("{:?}", study.refused[0]);
+    };
+    assert_eq!(field, "effects.damping.rate_per_s");
+    assert!(message.contains("1/(4·dt)"), "{message}");
+    let (md, _) = written(&study, "invalid");
+    assert!(md.contains("effects.damping.rate_per_s"), "{md}");
 }
 
 /// Regression (a failed reference was not flagged): a reference that diverges (thin wool at

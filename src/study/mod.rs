@@ -65,8 +65,8 @@ pub struct Study {
     pub placements: usize,
     /// One row per grid point, in grid order (the last key varies fastest).
     pub rows: Vec<StudyRow>,
-    /// Grid points the stability guard refused (an explicit step too long for the spacing),
-    /// not run.
+    /// Grid points not run: the stability guard refused them (an explicit step too long for
+    /// the spacing), or another rule did (e.g. explicit damping too strong for the step).
     pub refused: Vec<RefusedPoint>,
 }
 
@@ -79,15 +79,47 @@ impl Study {
     }
 }
 
-/// A grid point not run because its explicit step is beyond the stability guard.
+/// A grid point not run, and why.
 #[derive(Clone, Debug)]
 pub struct RefusedPoint {
     /// The varied keys' values, in `--vary` order.
     pub setting: Vec<(String, String)>,
-    /// The effect with the tightest limit.
-    pub effect: &'static str,
-    /// Its largest stable step (s).
-    pub max_step_s: f64,
+    /// The rule that refused it.
+    pub why: Refusal,
+}
+
+/// Why a grid point was not run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Refusal {
+    /// The stability guard: the explicit `effect` needs a step of at most `max_step_s` (s).
+    StepTooLong {
+        /// The effect with the tightest limit.
+        effect: &'static str,
+        /// Its largest stable step (s).
+        max_step_s: f64,
+    },
+    /// Any other validation rule: the field and the message, as `kes-cloth check` gives them
+    /// (e.g. explicit damping beyond 1/(4·dt) at a long step that only the implicit
+    /// integrator can take).
+    Invalid {
+        /// The field at fault.
+        field: String,
+        /// Its value and the allowed range.
+        message: String,
+    },
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::StepTooLong { effect, max_step_s } => write!(
+                f,
+                "explicit {effect} needs dt ≤ {:.3} ms (refused by the stability guard, docs/model.md §10)",
+                max_step_s * 1e3
+            ),
+            Self::Invalid { field, message } => write!(f, "{field}: {message}"),
+        }
+    }
 }
 
 /// Runs the study of the scene at `path` (with `base` overrides on every run) on `threads`
@@ -140,8 +172,19 @@ pub fn run_study(
                 effect, max_step_s, ..
             }) => refused.push(RefusedPoint {
                 setting,
-                effect,
-                max_step_s,
+                why: Refusal::StepTooLong { effect, max_step_s },
+            }),
+            // A point only some combinations make invalid (a step too long for explicit damping
+            // next to implicit points that take it) is listed, not fatal; if every point is
+            // refused the study stops below with the reasons.
+            Err(SceneError::Invalid {
+                field, value, reason, ..
+            }) => refused.push(RefusedPoint {
+                setting,
+                why: Refusal::Invalid {
+                    field,
+                    message: format!("{value}: {reason}"),
+                },
             }),
             Err(e) => return Err(e),
         }
@@ -156,16 +199,13 @@ pub fn run_study(
     if settings.is_empty() {
         let refused: Vec<String> = refused
             .iter()
-            .map(|r| format!("{:?} ({} needs dt ≤ {:.3e} s)", r.setting, r.effect, r.max_step_s))
+            .map(|r| format!("{:?} ({})", r.setting, r.why))
             .collect();
         return Err(SceneError::Invalid {
             path: base_scene.path.clone(),
             field: "integration.dt_s".to_string(),
             value: "every grid point".to_string(),
-            reason: format!(
-                "the stability guard refuses every grid point: {}",
-                refused.join("; ")
-            ),
+            reason: format!("every grid point is refused: {}", refused.join("; ")),
         });
     }
     let mut scenes = Vec::with_capacity(points.len() * group);

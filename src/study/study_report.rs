@@ -191,16 +191,10 @@ fn markdown(study: &Study) -> String {
         );
     }
     if !study.refused.is_empty() {
-        s += "\nNot run, refused by the stability guard (`docs/model.md` §10):\n\n";
+        s += "\nNot run:\n\n";
         for p in &study.refused {
             let setting: Vec<String> = p.setting.iter().map(|(k, v)| format!("{k}={v}")).collect();
-            let _ = writeln!(
-                s,
-                "- {}: explicit {} needs dt ≤ {:.3} ms",
-                setting.join(", "),
-                p.effect,
-                p.max_step_s * 1e3
-            );
+            let _ = writeln!(s, "- {}: {}", setting.join(", "), p.why);
         }
     }
     s
