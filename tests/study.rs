@@ -25,6 +25,12 @@ fn wool_at_1cm(max_time_s: f64) -> Vec<String> {
     ]
 }
 
+/// Runs `plan` on `drape_wool` at 1 cm for `max_time_s` seconds, on two threads.
+fn wool_study(plan: &StudyPlan, max_time_s: f64) -> kes_cloth::study::Study {
+    let scene = common::crate_path("scenes/drape_wool.ron");
+    kes_cloth::study::run_study(&scene, &wool_at_1cm(max_time_s), plan, 2, |_, _| {}).unwrap()
+}
+
 /// Writes `study` into a fresh temporary folder named after `tag` and returns its `study.md`
 /// and `study.csv`, removing the folder again.
 fn written(study: &kes_cloth::study::Study, tag: &str) -> (String, String) {
@@ -160,9 +166,7 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
 #[test]
 fn a_study_skips_and_reports_steps_the_guard_refuses() {
     let plan = step_plan("0.0005,0.00025", 1);
-    let base = wool_at_1cm(0.05);
-    let scene = common::crate_path("scenes/drape_wool.ron");
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    let study = wool_study(&plan, 0.05);
     assert_eq!(study.rows.len(), 1);
     assert_eq!(study.rows[0].setting[0].1, "0.00025");
     assert_eq!(study.refused.len(), 1);
@@ -177,6 +181,7 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
         "{md}"
     );
     // Nothing left to run is an error that lists what was refused, not an empty study.
+    let (scene, base) = (common::crate_path("scenes/drape_wool.ron"), wool_at_1cm(0.05));
     let Err(err) = kes_cloth::study::run_study(&scene, &base, &step_plan("0.0005", 1), 2, |_, _| {}) else {
         panic!("a study with every point refused must fail");
     };
@@ -201,9 +206,7 @@ fn a_study_lists_points_another_rule_refuses_and_runs_the_rest() {
         ],
         placements: 1,
     };
-    let base = wool_at_1cm(0.05);
-    let scene = common::crate_path("scenes/drape_wool.ron");
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    let study = wool_study(&plan, 0.05);
     assert_eq!(study.rows.len(), 1);
     assert_eq!(study.rows[0].setting[1].1, "Implicit");
     assert_eq!(study.refused.len(), 1);
@@ -229,9 +232,7 @@ fn a_failed_reference_is_flagged_and_not_compared_with() {
         ],
         placements: 1,
     };
-    let base = wool_at_1cm(0.1);
-    let scene = common::crate_path("scenes/drape_wool.ron");
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    let study = wool_study(&plan, 0.1);
     assert!(
         study.reference.failure.is_some(),
         "the reference was meant to diverge"
