@@ -6,7 +6,8 @@
 //!
 //! 1. evaluates every force F at the current positions and velocities (as the explicit pass does);
 //! 2. forms b = h·(F + M·g − h·H·v), H the clamped, positive semi-definite Hessian of our
-//!    energies ([`crate::forces::ForceGenerator::add_stiffness_product`]) and g the nodes'
+//!    energies (assembled by [`crate::forces::ForceGenerator::add_stiffness_blocks`], the matrix
+//!    that [`crate::forces::ForceGenerator::add_stiffness_product`] multiplies by) and g the nodes'
 //!    gravity, so that the step's fixed point is the cloth's true equilibrium F + M·g = 0;
 //! 3. assembles h²·H and h·C (C the damping matrix of the dissipative effects) block by block
 //!    ([`crate::forces::LinkMatrix`]) and solves (M + h·C + h²·H)·Δv = b by conjugate gradients,
