@@ -88,7 +88,7 @@ pub(crate) fn angle_hessian_product(
 
 /// a·bᵀ.
 #[inline(always)]
-fn outer(a: DVec3, b: DVec3) -> DMat3 {
+pub(crate) fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 

@@ -43,6 +43,7 @@ pub use bending::Bending;
 pub use cloth_geometry::ClothGeometry;
 pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
+pub(crate) use element_stiffness::outer;
 pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
 pub use hysteresis::{FrictionState, Hysteresis};

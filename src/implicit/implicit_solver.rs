@@ -5,7 +5,9 @@ use std::sync::Arc;
 use glam::{DMat3, DVec3};
 
 use super::conjugate_gradient::{CgReport, conjugate_gradient};
-use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
+use crate::forces::{
+    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, outer,
+};
 
 /// Conjugate-gradient settings of the implicit solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -214,9 +216,4 @@ impl ImplicitSolver {
         self.stats.last = report;
         report
     }
-}
-
-/// a·bᵀ.
-fn outer(a: DVec3, b: DVec3) -> DMat3 {
-    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
