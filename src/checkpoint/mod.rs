@@ -120,6 +120,7 @@ impl Snapshot {
             if self.positions.len() != n || self.velocities.len() != n {
                 return Err(mismatch("node count"));
             }
+            state.previous_positions = self.positions.clone();
             state.positions = self.positions;
             state.velocities = self.velocities;
         }

@@ -10,8 +10,14 @@ use crate::schedule::{Clock, ClothNodes, ClothState, Failure, Physics, Simulatio
 /// Motion of the cloth after the latest step.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Motion {
-    /// Speed of the fastest node (m/s).
+    /// Speed of the fastest node (m/s), as Rapier stores it.
     pub max_speed: f64,
+    /// Largest distance a node moved over the latest step, divided by the step (m/s): how fast
+    /// the nodes actually move. It differs from `max_speed` at a node resting on a contact,
+    /// whose stored velocity Rapier's contact solve can leave at millimetres per second while
+    /// its position stays put (`docs/model.md` §12).
+    #[serde(default)]
+    pub max_step_speed: f64,
     /// Index of the fastest node.
     pub fastest_node: usize,
     /// Kinetic energy of all nodes (J).
@@ -49,12 +55,8 @@ pub fn link_strains<'a>(
         .map(move |&[p, q]| ((positions[q as usize] - positions[p as usize]).length() / sigma - 1.0).abs())
 }
 
-fn measure(
-    bodies: &ClothBodies,
-    topology: &ClothTopology,
-    positions: &[DVec3],
-    velocities: &[DVec3],
-) -> Motion {
+fn measure(bodies: &ClothBodies, state: &ClothState, dt: f64) -> Motion {
+    let (positions, velocities) = (&state.positions, &state.velocities);
     let mut m = Motion {
         min_height: f64::INFINITY,
         ..Default::default()
@@ -68,7 +70,13 @@ fn measure(
         m.kinetic_energy += 0.5 * bodies.node_mass * speed * speed;
         m.min_height = m.min_height.min(x.y);
     }
-    m.max_strain = link_strains(topology, positions).fold(0.0, f64::max);
+    m.max_step_speed = positions
+        .iter()
+        .zip(&state.previous_positions)
+        .map(|(x, before)| (*x - *before).length())
+        .fold(0.0, f64::max)
+        / dt;
+    m.max_strain = link_strains(&state.topology, positions).fold(0.0, f64::max);
     m
 }
 
@@ -84,6 +92,7 @@ pub fn measure_motion(
 ) {
     for (nodes, mut state) in &mut cloths {
         let state = &mut *state;
+        std::mem::swap(&mut state.positions, &mut state.previous_positions);
         nodes
             .0
             .read(&physics.0, &mut state.positions, &mut state.velocities);
@@ -107,7 +116,7 @@ pub fn measure_motion(
             return;
         }
         let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
-        let now = measure(&nodes.0, &state.topology, &state.positions, &state.velocities);
+        let now = measure(&nodes.0, state, clock.dt);
         if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,

@@ -67,8 +67,13 @@ pub struct Metrics {
     pub max_penetration_m: f64,
     /// Deepest node centre inside a collider at the end of any step (m).
     pub peak_penetration_m: f64,
-    /// Speed of the fastest node at the end (m/s).
+    /// Speed of the fastest node at the end, as Rapier stores it (m/s).
     pub max_speed_m_per_s: f64,
+    /// Largest distance a node moved over the last step, divided by the step (m/s). Unlike
+    /// `max_speed_m_per_s`, not raised by the velocity Rapier's contact solve leaves on a node
+    /// resting on a surface.
+    #[serde(default)]
+    pub max_step_speed_m_per_s: f64,
     /// Largest node travel over the last settle window divided by its length (m/s): the
     /// quantity the settle criterion tests.
     pub window_speed_m_per_s: Option<f64>,

@@ -22,6 +22,8 @@ pub struct ClothState {
     pub positions: Vec<DVec3>,
     /// Node velocities (m/s), read with the positions.
     pub velocities: Vec<DVec3>,
+    /// Node positions (m) one step earlier: how far each node moved over the latest step.
+    pub previous_positions: Vec<DVec3>,
     /// Link directions and lengths of `positions`.
     pub geometry: ClothGeometry,
     /// This step's forces (N).
@@ -35,6 +37,7 @@ impl ClothState {
         geometry.update(&positions);
         Self {
             velocities: vec![DVec3::ZERO; positions.len()],
+            previous_positions: positions.clone(),
             forces: ForceBuffer::new(&topology),
             topology,
             positions,
