@@ -36,3 +36,34 @@ fn an_explicitly_unstable_stretch_law_is_stopped_and_named() {
     assert_eq!(json["failure"]["effect"], "stretch_kes");
     assert_eq!(json["settled"], false);
 }
+
+/// Regression: an implicit run that ran away was told its step was too large "for this effect's
+/// stiffness when applied explicitly", which the implicit solve rules out. With rope joints the
+/// message must point at the joints (Rapier solves them after our solve) and their remedies.
+/// A 10 g ball tears the rope-joint hammock within a few milliseconds at one solver iteration.
+#[test]
+fn an_implicit_runaway_blames_the_rope_joints_not_an_explicit_step() {
+    let sets = [
+        "integration.integrator=Implicit".to_string(),
+        "world.colliders.0.motion.mass_kg=0.01".to_string(),
+    ];
+    let scene =
+        kes_cloth::scene::Scene::load(common::crate_path("scenes/hard/ball_impact.ron"), &sets).unwrap();
+    let outcome = kes_cloth::run::simulate(&scene, &kes_cloth::run::RunOptions::default());
+    let failure = outcome
+        .metrics
+        .failure
+        .expect("the 10 g ball tears the rope joints");
+    assert!(failure.message.contains("runaway"), "{}", failure.message);
+    assert!(failure.message.contains("rope joints"), "{}", failure.message);
+    assert!(
+        failure.message.contains("solver_iterations"),
+        "{}",
+        failure.message
+    );
+    assert!(
+        !failure.message.contains("applied explicitly"),
+        "{}",
+        failure.message
+    );
+}
