@@ -122,9 +122,18 @@ impl ClothBodies {
     /// the node; zero for a free node. Where several surfaces pushed, the deepest contact wins.
     /// Rapier's own active set decides: a node its contact no longer pushes (lifting off, or
     /// merely near the surface) is free, with no threshold of ours that could disagree.
-    pub fn read_supports(&self, world: &PhysicsWorld, normals: &mut [DVec3]) {
-        for (h, n) in self.handles.iter().zip(normals.iter_mut()) {
+    /// `touching` gets, for every node within [`TOUCH_DISTANCE`] of a fixed or kinematic
+    /// collider, the normal of the nearest one (zero otherwise), whether it pushed or not.
+    pub fn read_supports(&self, world: &PhysicsWorld, normals: &mut [DVec3], touching: &mut [DVec3]) {
+        for ((h, n), touch) in self
+            .handles
+            .iter()
+            .zip(normals.iter_mut())
+            .zip(touching.iter_mut())
+        {
             *n = DVec3::ZERO;
+            *touch = DVec3::ZERO;
+            let mut nearest = TOUCH_DISTANCE;
             let Some(body) = world.bodies.get(*h) else {
                 continue;
             };
@@ -147,6 +156,11 @@ impl ClothBodies {
                     }
                     for manifold in pair.manifolds() {
                         for point in &manifold.points {
+                            if point.dist <= nearest {
+                                nearest = point.dist;
+                                let normal = manifold.data.normal.as_dvec3();
+                                *touch = if node_first { -normal } else { normal };
+                            }
                             if point.data.impulse > 0.0 && point.dist <= deepest {
                                 deepest = point.dist;
                                 // The manifold normal points from collider 1 to collider 2.
@@ -176,3 +190,7 @@ impl ClothBodies {
         }
     }
 }
+
+/// Contact distance (m) within which a node still touches a surface: a node the implicit solve
+/// held on a surface keeps that support while this close (`docs/model.md` §12).
+pub const TOUCH_DISTANCE: f32 = 2e-4;

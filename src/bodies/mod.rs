@@ -11,6 +11,6 @@ mod cloth_bodies;
 mod world_colliders;
 mod world_settings;
 
-pub use cloth_bodies::{ClothBodies, NodeOptions};
+pub use cloth_bodies::{ClothBodies, NodeOptions, TOUCH_DISTANCE};
 pub use world_colliders::{ThrownBody, WorldShape, add_world_collider};
 pub use world_settings::{ContactStiffness, configure_world};

@@ -56,6 +56,9 @@ pub struct Snapshot {
     velocities: Vec<DVec3>,
     friction: Option<FrictionState>,
     implicit: Option<(Vec<DVec3>, ImplicitStats)>,
+    /// The implicit solve's pushed supports (since session 9; older checkpoints have none).
+    #[serde(default)]
+    implicit_pressed: Option<Vec<bool>>,
     settle: SettleState,
     motion: Motion,
     effect_calls: Vec<(String, u64, f64)>,
@@ -93,6 +96,7 @@ impl Snapshot {
             implicit: world
                 .get::<Implicit>(cloth)
                 .map(|i| (i.0.warm_start().to_vec(), i.0.stats)),
+            implicit_pressed: world.get::<Implicit>(cloth).map(|i| i.0.pressed().to_vec()),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
             effect_calls: ledger
@@ -134,7 +138,11 @@ impl Snapshot {
         let restored = match (world.get_mut::<Implicit>(cloth), &self.implicit) {
             (Some(mut i), Some((dv, stats))) => {
                 i.0.stats = *stats;
-                i.0.restore_warm_start(dv)
+                let pressed = self
+                    .implicit_pressed
+                    .as_ref()
+                    .is_none_or(|p| i.0.restore_pressed(p));
+                i.0.restore_warm_start(dv) && pressed
             }
             (i, s) => i.is_none() && s.is_none(),
         };

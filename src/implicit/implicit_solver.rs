@@ -63,6 +63,14 @@ pub struct ImplicitSolver {
     /// normal (towards the node); zero for a free node. Set before each [`Self::solve`] (e.g. by
     /// [`crate::bodies::ClothBodies::read_supports`]).
     pub supports: Vec<DVec3>,
+    /// For each node within [`crate::bodies::TOUCH_DISTANCE`] of a fixed surface, that
+    /// surface's unit normal (zero otherwise). Set with [`Self::supports`].
+    pub touching: Vec<DVec3>,
+    /// Whether the last solve's surface pushed each supported node (Baraff & Witkin's release
+    /// rule: a support is kept, while the node touches, until the surface would have to pull).
+    pressed: Vec<bool>,
+    /// b + h·M·g before the filter, for the surfaces' impulses A·Δv − b.
+    unfiltered_rhs: Vec<DVec3>,
     /// Nodes pinned to a body that cannot move: their Δv is held at zero, as the pin will.
     held: Vec<bool>,
     /// Totals so far.
@@ -85,6 +93,21 @@ impl ImplicitSolver {
         true
     }
 
+    /// Which nodes the last solve's surface pushed (for checkpoints).
+    pub fn pressed(&self) -> &[bool] {
+        &self.pressed
+    }
+
+    /// Restores what [`Self::pressed`] returned; `false` (and nothing changed) if it does not fit
+    /// this cloth.
+    pub fn restore_pressed(&mut self, pressed: &[bool]) -> bool {
+        if pressed.len() != self.pressed.len() {
+            return false;
+        }
+        self.pressed.copy_from_slice(pressed);
+        true
+    }
+
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
         let n = topology.particle_count;
@@ -98,6 +121,9 @@ impl ImplicitSolver {
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: vec![DVec3::ZERO; n],
+            touching: vec![DVec3::ZERO; n],
+            pressed: vec![false; n],
+            unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
@@ -128,6 +154,15 @@ impl ImplicitSolver {
         forces: &mut [DVec3],
         (h, gravity): (f64, DVec3),
     ) -> CgReport {
+        // A node Rapier's contact did not push this step keeps its support while it still
+        // touches the surface and the surface pushed it in the last solve: otherwise a node that
+        // the filter keeps off the surface is released, pulled back onto it by the cloth, and
+        // held again, every other step.
+        for ((support, touch), pressed) in self.supports.iter_mut().zip(&self.touching).zip(&self.pressed) {
+            if *support == DVec3::ZERO && *pressed {
+                *support = *touch;
+            }
+        }
         let (topo, m) = (&*self.topology, self.node_mass);
         let (pert, product, matrix) = (&mut self.perturbation, &mut self.product, &mut self.matrix);
         // Assemble h²·H, and with it b = h·F − h²·H·v (h·M·g is added below); then add h·C.
@@ -154,6 +189,9 @@ impl ImplicitSolver {
         // solved without it, a cloth at rest ends where F = −(M + h²H)·g, as if it weighed
         // (M + h²H)/M times more in its stiff modes (docs/model.md §12).
         let weight = m * gravity;
+        for (u, b) in self.unfiltered_rhs.iter_mut().zip(&self.rhs) {
+            *u = *b + h * weight;
+        }
         for ((b, n), held) in self.rhs.iter_mut().zip(&self.supports).zip(&self.held) {
             *b = filter(*n, *held, *b + h * weight);
         }
@@ -207,6 +245,15 @@ impl ImplicitSolver {
             .zip(&self.held)
         {
             *f = (m / h) * *dv - filter(*n, *held, weight);
+        }
+        // Each surface's impulse on its node, the normal part of A·Δv − b: a push keeps the
+        // support for the next step, a pull releases it.
+        pert.set(topo, &self.dv);
+        let ax = matrix.product(topo, pert, product);
+        for (i, pressed) in self.pressed.iter_mut().enumerate() {
+            let n = self.supports[i];
+            let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
+            *pressed = n != DVec3::ZERO && impulse.dot(n) >= 0.0;
         }
         self.stats.solves += 1;
         self.stats.iterations += report.iterations as u64;

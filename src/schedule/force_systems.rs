@@ -94,7 +94,10 @@ pub fn solve_implicit(
     }
     for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a, h)) in &mut cloths {
         let start = Instant::now();
-        nodes.0.read_supports(&physics.0, &mut implicit.0.supports);
+        let solver = &mut implicit.0;
+        nodes
+            .0
+            .read_supports(&physics.0, &mut solver.supports, &mut solver.touching);
         let state = &mut *state;
         let generators = [
             b.map(|e| &e.0 as &dyn ForceGenerator),
