@@ -8,6 +8,7 @@
 //! tolerance here, 0.05, is the spread of the implicit result over steps from 0.5 to 4.2 ms
 //! (0.652–0.703); the issue's own target, 0.02, is reported in the issue note, not asserted.
 
+use kes_cloth::output::Metrics;
 use kes_cloth::run::{RunOptions, simulate};
 use kes_cloth::scene::Scene;
 
@@ -19,6 +20,22 @@ fn drape(sets: &[&str]) -> kes_cloth::run::RunOutcome {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets).unwrap();
     simulate(&scene, &RunOptions::default())
+}
+
+/// `implicit` did not diverge, settled, drapes within `tolerance` of `reference`'s DC, and has
+/// its node count.
+fn assert_settled_near(implicit: &Metrics, reference: &Metrics, tolerance: f64) {
+    assert!(implicit.failure.is_none(), "diverged: {:?}", implicit.failure);
+    assert!(implicit.settled, "did not settle in {} s", implicit.sim_time_s);
+    let (dc, dc_ref) = (
+        implicit.drape_coefficient.unwrap(),
+        reference.drape_coefficient.unwrap(),
+    );
+    assert!(
+        (dc - dc_ref).abs() <= tolerance,
+        "implicit DC {dc:.3} vs explicit reference {dc_ref:.3}"
+    );
+    assert_eq!(implicit.nodes, reference.nodes, "node counts differ");
 }
 
 #[test]
@@ -42,17 +59,7 @@ fn explicit_cotton_diverges_at_the_contact_step() {
 fn implicit_cotton_settles_at_the_contact_step_near_the_explicit_reference() {
     let reference = drape(&[]).metrics;
     let implicit = drape(&[CONTACT_STEP, "integration.integrator=Implicit"]).metrics;
-    assert!(implicit.failure.is_none(), "diverged: {:?}", implicit.failure);
-    assert!(implicit.settled, "did not settle in {} s", implicit.sim_time_s);
-    let (dc, dc_ref) = (
-        implicit.drape_coefficient.unwrap(),
-        reference.drape_coefficient.unwrap(),
-    );
-    assert!(
-        (dc - dc_ref).abs() <= 0.05,
-        "implicit DC {dc:.3} vs explicit reference {dc_ref:.3}"
-    );
-    assert_eq!(implicit.nodes, reference.nodes, "node counts differ");
+    assert_settled_near(&implicit, &reference, 0.05);
     // Rapier's rope joints at one iteration per 4.2 ms step hold the links less tightly than
     // at 0.125 ms (1 %): measured 2.8 % (8 % before the compression spring had a fixed
     // modulus); 12 % would mean the joints are losing the cloth.
@@ -90,17 +97,7 @@ fn implicit_cotton_with_kes_stretch_keeps_its_supports() {
         "effects.stretch=Kes",
     ])
     .metrics;
-    assert!(implicit.failure.is_none(), "diverged: {:?}", implicit.failure);
-    assert!(implicit.settled, "did not settle in {} s", implicit.sim_time_s);
-    let (dc, dc_ref) = (
-        implicit.drape_coefficient.unwrap(),
-        reference.drape_coefficient.unwrap(),
-    );
-    assert!(
-        (dc - dc_ref).abs() <= 0.02,
-        "implicit DC {dc:.3} vs explicit reference {dc_ref:.3}"
-    );
-    assert_eq!(implicit.nodes, reference.nodes, "node counts differ");
+    assert_settled_near(&implicit, &reference, 0.02);
     let cg = implicit.cg_iterations_mean.unwrap();
     assert!(cg < 30.0, "{cg:.0} CG products a step");
 }

@@ -86,11 +86,7 @@ impl ImplicitSolver {
     /// Restores a warm start saved by [`Self::warm_start`]; `false` (and nothing changed) if it
     /// does not fit this cloth.
     pub fn restore_warm_start(&mut self, dv: &[DVec3]) -> bool {
-        if dv.len() != self.dv.len() {
-            return false;
-        }
-        self.dv.copy_from_slice(dv);
-        true
+        copy_if_same_length(&mut self.dv, dv)
     }
 
     /// Which nodes the last solve's surface pushed (for checkpoints).
@@ -101,11 +97,7 @@ impl ImplicitSolver {
     /// Restores what [`Self::pressed`] returned; `false` (and nothing changed) if it does not fit
     /// this cloth.
     pub fn restore_pressed(&mut self, pressed: &[bool]) -> bool {
-        if pressed.len() != self.pressed.len() {
-            return false;
-        }
-        self.pressed.copy_from_slice(pressed);
-        true
+        copy_if_same_length(&mut self.pressed, pressed)
     }
 
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
@@ -263,4 +255,13 @@ impl ImplicitSolver {
         self.stats.last = report;
         report
     }
+}
+
+/// Copies `from` into `to` if they have the same length (a checkpoint of this cloth).
+fn copy_if_same_length<T: Copy>(to: &mut [T], from: &[T]) -> bool {
+    let fits = to.len() == from.len();
+    if fits {
+        to.copy_from_slice(from);
+    }
+    fits
 }

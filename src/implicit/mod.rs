@@ -14,8 +14,10 @@
 //!    preconditioned by the inverse of each node's 3×3 diagonal block and warm-started from
 //!    the previous step's Δv, with the normal
 //!    component of Δv held at zero for nodes that a fixed surface pushed in Rapier's last step
-//!    (Baraff & Witkin's filter, with Rapier's contact impulses as the active set), and the
-//!    whole Δv held at zero for nodes pinned to a body that cannot move;
+//!    (Baraff & Witkin's filter, with Rapier's contact impulses as the active set), or that
+//!    still touch the surface that pushed them in the last solve (their release rule: a support
+//!    goes only when the surface would pull), and the whole Δv held at zero for nodes pinned to
+//!    a body that cannot move;
 //! 4. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
