@@ -239,13 +239,17 @@ impl ImplicitSolver {
             *f = (m / h) * *dv - filter(*n, *held, weight);
         }
         // Each surface's impulse on its node, the normal part of A·Δv − b: a push keeps the
-        // support for the next step, a pull releases it.
-        pert.set(topo, &self.dv);
-        let ax = matrix.product(topo, pert, product);
-        for (i, pressed) in self.pressed.iter_mut().enumerate() {
-            let n = self.supports[i];
-            let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
-            *pressed = n != DVec3::ZERO && impulse.dot(n) >= 0.0;
+        // support for the next step, a pull releases it. (No product when nothing is supported.)
+        if self.supports.iter().any(|n| *n != DVec3::ZERO) {
+            pert.set(topo, &self.dv);
+            let ax = matrix.product(topo, pert, product);
+            for (i, pressed) in self.pressed.iter_mut().enumerate() {
+                let n = self.supports[i];
+                let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
+                *pressed = n != DVec3::ZERO && impulse.dot(n) >= 0.0;
+            }
+        } else {
+            self.pressed.fill(false);
         }
         self.stats.solves += 1;
         self.stats.iterations += report.iterations as u64;
