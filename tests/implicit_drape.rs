@@ -88,6 +88,8 @@ fn implicit_cotton_settles_at_the_contact_step_near_the_explicit_reference() {
 /// stopped pushing it, pulled back by the cloth, and held again, every other step. Supports now
 /// stay while the node touches and the surface pushed in the last solve. Measured: DC 0.746
 /// against 0.738, 4 nodes, 11 products a step, settled at 1.6 s; 30 products is half the flicker.
+/// Friction in the solve (session 10, `tests/implicit_friction.rs`) is off here: this test is
+/// about the supports alone, and friction's extra solve per step would hide the flicker's cost.
 #[test]
 fn implicit_cotton_with_kes_stretch_keeps_its_supports() {
     let reference = drape(&[]).metrics;
@@ -95,6 +97,7 @@ fn implicit_cotton_with_kes_stretch_keeps_its_supports() {
         CONTACT_STEP,
         "integration.integrator=Implicit",
         "effects.stretch=Kes",
+        "integration.implicit_solver.friction=false",
     ])
     .metrics;
     assert_settled_near(&implicit, &reference, 0.02);

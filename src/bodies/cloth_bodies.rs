@@ -4,6 +4,7 @@ use glam::DVec3;
 use rapier3d::prelude::*;
 
 use crate::forces::ClothTopology;
+use crate::implicit::Supports;
 
 /// Collision group of the fixed world (table, disk, floor, user bodies).
 pub(crate) const WORLD_GROUP: Group = Group::GROUP_1;
@@ -117,27 +118,33 @@ impl ClothBodies {
             })
     }
 
-    /// For each node that a fixed or kinematic collider pushed in Rapier's last step (a contact
-    /// point with a positive normal impulse), the unit normal of that surface pointing towards
-    /// the node; zero for a free node. Where several surfaces pushed, the deepest contact wins.
-    /// Rapier's own active set decides: a node its contact no longer pushes (lifting off, or
-    /// merely near the surface) is free, with no threshold of ours that could disagree.
-    /// `touching` gets, for every node within [`TOUCH_DISTANCE`] of a fixed or kinematic
-    /// collider, the normal of the nearest one (zero otherwise), whether it pushed or not.
-    pub fn read_supports(&self, world: &PhysicsWorld, normals: &mut [DVec3], touching: &mut [DVec3]) {
-        for ((h, n), touch) in self
+    /// Fills `supports` ([`Supports`]) from Rapier's last step. A node's pushing surface is one
+    /// of a fixed or kinematic collider's contact points with a positive normal impulse (the
+    /// deepest if several did), with that collider's friction coefficient: Rapier's own active
+    /// set decides, so a node its contact no longer pushes (lifting off, or merely near the
+    /// surface) is free, with no threshold of ours that could disagree. `touching` gets, for
+    /// every node within [`TOUCH_DISTANCE`] of such a collider, the normal of the nearest one,
+    /// whether it pushed or not.
+    pub fn read_supports(&self, world: &PhysicsWorld, supports: &mut Supports) {
+        supports.clear(self.handles.len());
+        let Supports {
+            pushed,
+            touching,
+            friction,
+        } = supports;
+        for (((h, n), touch), mu) in self
             .handles
             .iter()
-            .zip(normals.iter_mut())
+            .zip(pushed.iter_mut())
             .zip(touching.iter_mut())
+            .zip(friction.iter_mut())
         {
-            *n = DVec3::ZERO;
-            *touch = DVec3::ZERO;
             let mut nearest = TOUCH_DISTANCE;
             let Some(body) = world.bodies.get(*h) else {
                 continue;
             };
             let mut deepest = f32::INFINITY;
+            let mut touching_friction = 0.0;
             for &node_collider in body.colliders() {
                 for pair in world.contact_pairs_with(node_collider) {
                     let (other, node_first) = if pair.collider1 == node_collider {
@@ -145,31 +152,39 @@ impl ClothBodies {
                     } else {
                         (pair.collider1, false)
                     };
-                    let support = world
-                        .colliders
-                        .get(other)
-                        .and_then(|c| c.parent())
+                    let Some(surface) = world.colliders.get(other) else {
+                        continue;
+                    };
+                    let support = surface
+                        .parent()
                         .and_then(|b| world.bodies.get(b))
                         .is_none_or(|b| !b.is_dynamic());
                     if !support {
                         continue;
                     }
                     for manifold in pair.manifolds() {
+                        // The manifold normal points from collider 1 to collider 2.
+                        let normal = manifold.data.normal.as_dvec3();
+                        let towards_node = if node_first { -normal } else { normal };
                         for point in &manifold.points {
                             if point.dist <= nearest {
                                 nearest = point.dist;
-                                let normal = manifold.data.normal.as_dvec3();
-                                *touch = if node_first { -normal } else { normal };
+                                *touch = towards_node;
+                                touching_friction = surface.friction() as f64;
                             }
                             if point.data.impulse > 0.0 && point.dist <= deepest {
                                 deepest = point.dist;
-                                // The manifold normal points from collider 1 to collider 2.
-                                let normal = manifold.data.normal.as_dvec3();
-                                *n = if node_first { -normal } else { normal };
+                                *n = towards_node;
+                                // Nodes have friction 0 and world colliders the Max rule, so
+                                // the surface's own coefficient is the pair's.
+                                *mu = surface.friction() as f64;
                             }
                         }
                     }
                 }
+            }
+            if *n == DVec3::ZERO {
+                *mu = touching_friction;
             }
         }
     }

@@ -366,6 +366,10 @@ impl ClothBuilder {
                     for node in held {
                         solver.hold(node);
                     }
+                    // Friction in the solve needs every force on a node in the solve: Rapier's
+                    // rope joints are not (docs/model.md §12).
+                    let rope = self.stretch == StretchModel::Constraint;
+                    solver.apply_friction(settings.friction.unwrap_or(!rope));
                     Some(solver)
                 }
             },

@@ -44,8 +44,7 @@ impl KesCloth {
         }
         state.forces.resolve(&state.topology);
         if let Some(implicit) = &mut p.implicit {
-            p.bodies
-                .read_supports(world, &mut implicit.supports, &mut implicit.touching);
+            p.bodies.read_supports(world, &mut implicit.supports);
             let h = world.integration_parameters.dt as f64;
             let forces = &mut state.forces.particle;
             let g = p.bodies.gravity(world);

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{DMat3, DVec3};
 
 use super::conjugate_gradient::{CgReport, conjugate_gradient};
+use super::supports::Supports;
 use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, outer,
 };
@@ -15,8 +16,13 @@ pub struct ImplicitSettings {
     /// Most operator products per step (default 200). A solve stopped early still returns a
     /// velocity change that reduces the residual; [`ImplicitStats`] counts how often it happens.
     pub max_iterations: usize,
-    /// Relative residual |b − A·Δv|/|b| at which a solve stops (dimensionless; default 1e-3).
+    /// Relative residual |b − A·Δv|_P/|b|_P at which a solve stops (dimensionless; default
+    /// 1e-3; the norm is the preconditioner's, [`CgReport::relative_residual`]).
     pub tolerance: f64,
+    /// Whether the solve applies the supports' Coulomb friction (see
+    /// [`ImplicitSolver::apply_friction`]); `None` (default) for on when the cloth's
+    /// stretch is in the solve and off with Rapier's rope joints.
+    pub friction: Option<bool>,
 }
 
 impl Default for ImplicitSettings {
@@ -24,6 +30,7 @@ impl Default for ImplicitSettings {
         Self {
             max_iterations: 200,
             tolerance: 1e-3,
+            friction: None,
         }
     }
 }
@@ -59,13 +66,22 @@ pub struct ImplicitSolver {
     preconditioner: Vec<DMat3>,
     perturbation: Perturbation,
     product: ForceBuffer,
-    /// For each node that a fixed surface pushed in Rapier's last step, that surface's unit
-    /// normal (towards the node); zero for a free node. Set before each [`Self::solve`] (e.g. by
-    /// [`crate::bodies::ClothBodies::read_supports`]).
-    pub supports: Vec<DVec3>,
-    /// For each node within [`crate::bodies::TOUCH_DISTANCE`] of a fixed surface, that
-    /// surface's unit normal (zero otherwise). Set with [`Self::supports`].
-    pub touching: Vec<DVec3>,
+    /// The fixed surfaces under the nodes in Rapier's last step. Set before each
+    /// [`Self::solve`] (e.g. by [`crate::bodies::ClothBodies::read_supports`]).
+    pub supports: Supports,
+    /// Whether a supported node is held still while static friction can hold it (see
+    /// [`Self::apply_friction`]; default off).
+    static_friction: bool,
+    /// This step's nodes whose whole Δv is held at zero: pinned, or stuck by static friction.
+    fixed: Vec<bool>,
+    /// Each node's 3×3 diagonal block of M + h·C + h²·H, before the filter.
+    diagonal: Vec<DMat3>,
+    /// This step's prescribed Δv of the nodes stuck by friction (m/s; zero elsewhere).
+    prescribed: Vec<DVec3>,
+    /// This step's kinetic friction of each node that slides, as a drag coefficient c (kg: the
+    /// surface's tangential impulse is −c times the node's tangential velocity at the step's
+    /// end; zero elsewhere).
+    sliding_drag: Vec<f64>,
     /// Whether the last solve's surface pushed each supported node (Baraff & Witkin's release
     /// rule: a support is kept, while the node touches, until the surface would have to pull).
     pressed: Vec<bool>,
@@ -112,8 +128,12 @@ impl ImplicitSolver {
             matrix: LinkMatrix::new(&topology),
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
-            supports: vec![DVec3::ZERO; n],
-            touching: vec![DVec3::ZERO; n],
+            supports: Supports::new(n),
+            static_friction: false,
+            fixed: vec![false; n],
+            diagonal: vec![DMat3::ZERO; n],
+            prescribed: vec![DVec3::ZERO; n],
+            sliding_drag: vec![0.0; n],
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
@@ -129,6 +149,18 @@ impl ImplicitSolver {
         if let Some(h) = self.held.get_mut(node) {
             *h = true;
         }
+    }
+
+    /// Applies the supports' Coulomb friction inside the solve. Each supported node starts the
+    /// step held (its tangential velocity stopped); a hold whose tangential impulse exceeds μ
+    /// times its normal impulse is released, and the node slides against a kinetic friction
+    /// drag. Without it the solve lets supported nodes slide freely in the surface's plane and
+    /// leaves friction to Rapier's contact, which sees only the node's weight pressing on the
+    /// surface, not the cloth's pull around a rim. Only consistent when every force on the
+    /// cloth is in the solve: Rapier's rope joints are not, and with them the holds fail
+    /// (`docs/model.md` §12).
+    pub fn apply_friction(&mut self, on: bool) {
+        self.static_friction = on;
     }
 
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
@@ -150,7 +182,13 @@ impl ImplicitSolver {
         // touches the surface and the surface pushed it in the last solve: otherwise a node that
         // the filter keeps off the surface is released, pulled back onto it by the cloth, and
         // held again, every other step.
-        for ((support, touch), pressed) in self.supports.iter_mut().zip(&self.touching).zip(&self.pressed) {
+        let supports = &mut self.supports;
+        for ((support, touch), pressed) in supports
+            .pushed
+            .iter_mut()
+            .zip(&supports.touching)
+            .zip(&self.pressed)
+        {
             if *support == DVec3::ZERO && *pressed {
                 *support = *touch;
             }
@@ -164,92 +202,174 @@ impl ImplicitSolver {
         }
         pert.set(topo, velocities);
         let hv = matrix.product(topo, pert, product);
-        for ((b, f), hv) in self.rhs.iter_mut().zip(&*forces).zip(hv) {
-            *b = h * *f - *hv;
-        }
-        for g in generators.iter().flatten() {
-            g.add_damping_blocks(h, matrix);
-        }
-        // Supported nodes: our Δv has no component along the support normal (Baraff & Witkin's
-        // filtered CG), so the surface, not the rest of the cloth, carries what presses on them.
-        // A held (pinned) node keeps no component at all.
-        let filter = |n: DVec3, held: bool, v: DVec3| {
-            if held { DVec3::ZERO } else { v - n.dot(v) * n }
-        };
         // Gravity enters the solve too, and leaves the kick again because Rapier applies it.
         // Our stiff response then balances the cloth's weight where the cloth's constraints do:
         // solved without it, a cloth at rest ends where F = −(M + h²H)·g, as if it weighed
         // (M + h²H)/M times more in its stiff modes (docs/model.md §12).
         let weight = m * gravity;
-        for (u, b) in self.unfiltered_rhs.iter_mut().zip(&self.rhs) {
-            *u = *b + h * weight;
+        for ((b, f), hv) in self.unfiltered_rhs.iter_mut().zip(&*forces).zip(hv) {
+            *b = h * *f - *hv + h * weight;
         }
-        for ((b, n), held) in self.rhs.iter_mut().zip(&self.supports).zip(&self.held) {
-            *b = filter(*n, *held, *b + h * weight);
+        for g in generators.iter().flatten() {
+            g.add_damping_blocks(h, matrix);
         }
-        for ((dv, n), held) in self.dv.iter_mut().zip(&self.supports).zip(&self.held) {
-            *dv = filter(*n, *held, *dv);
-        }
-        // Block Jacobi: each node's own 3×3 block of the filtered system P·A·P, inverted on the
-        // plane the filter leaves free (the normal gets m, which the filter then removes again).
-        self.preconditioner.fill(DMat3::from_diagonal(DVec3::splat(m)));
-        matrix.add_particle_diagonal(topo, &mut self.preconditioner);
-        for ((block, n), held) in self.preconditioner.iter_mut().zip(&self.supports).zip(&self.held) {
-            *block = if *held {
-                DMat3::ZERO
-            } else if *n == DVec3::ZERO {
-                block.inverse()
-            } else {
-                let plane = DMat3::IDENTITY - outer(*n, *n);
-                let free = plane * *block * plane + m * outer(*n, *n);
-                plane * free.inverse() * plane
-            };
-        }
-        let preconditioner = &self.preconditioner;
-        let (supports, held) = (&self.supports, &self.held);
-        let matrix = &*matrix;
-        let apply = |x: &[DVec3], out: &mut [DVec3]| {
-            pert.set(topo, x);
-            let ax = matrix.product(topo, pert, product);
-            for ((((o, ax), x), n), held) in out.iter_mut().zip(ax).zip(x).zip(supports).zip(held) {
-                *o = filter(*n, *held, m * *x + *ax);
-            }
-        };
-        let precondition = |r: &[DVec3], z: &mut [DVec3]| {
-            for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
-                *z = *block * *r;
-            }
-        };
-        let [r, z, p, ap] = &mut self.scratch;
-        let report = conjugate_gradient(
-            apply,
-            precondition,
-            &self.rhs,
-            &mut self.dv,
-            (r, z, p, ap),
-            self.settings.tolerance,
-            self.settings.max_iterations,
-        );
-        for (((f, dv), n), held) in forces
+        self.diagonal.fill(DMat3::from_diagonal(DVec3::splat(m)));
+        matrix.add_particle_diagonal(topo, &mut self.diagonal);
+        // Static friction: every node a surface supports starts the step held; a hold whose
+        // impulse leaves the friction cone is released below and the solve repeated.
+        let normals = &self.supports.pushed;
+        for (((fixed, held), n), mu) in self
+            .fixed
             .iter_mut()
-            .zip(&self.dv)
-            .zip(&self.supports)
             .zip(&self.held)
+            .zip(normals)
+            .zip(&self.supports.friction)
         {
-            *f = (m / h) * *dv - filter(*n, *held, weight);
+            *fixed = *held || (self.static_friction && *n != DVec3::ZERO && *mu > 0.0);
         }
-        // Each surface's impulse on its node, the normal part of A·Δv − b: a push keeps the
-        // support for the next step, a pull releases it. (No product when nothing is supported.)
-        if self.supports.iter().any(|n| *n != DVec3::ZERO) {
+        self.sliding_drag.fill(0.0);
+        let matrix = &*matrix;
+        let mut report = CgReport::default();
+        for pass in 0..FRICTION_PASSES {
+            // Supported nodes: our Δv has no component along the support normal (Baraff &
+            // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
+            // presses on them. A fixed node keeps no component at all.
+            let filter = |i: usize, v: DVec3| filter(normals[i], self.fixed[i], v);
+            // A node stuck by friction stops: its Δv is prescribed, z = −(its tangential
+            // velocity), and the solve finds the rest, y = Δv − z, from P·A·y = P·(b − A·z).
+            let stuck = |i: usize| self.fixed[i] && !self.held[i];
+            let mut any_stuck = false;
+            for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
+                *z = if stuck(i) {
+                    normals[i].dot(*v) * normals[i] - *v
+                } else {
+                    DVec3::ZERO
+                };
+                any_stuck |= *z != DVec3::ZERO;
+            }
+            // A sliding node's drag: −c·(v + Δv) along the surface, the −c·v part known.
+            let drag = |i: usize, v: DVec3| {
+                let n = normals[i];
+                self.sliding_drag[i] * (v - n.dot(v) * n)
+            };
+            for (i, ((b, u), v)) in self
+                .rhs
+                .iter_mut()
+                .zip(&self.unfiltered_rhs)
+                .zip(velocities)
+                .enumerate()
+            {
+                *b = *u - drag(i, *v);
+            }
+            if any_stuck {
+                pert.set(topo, &self.prescribed);
+                let az = matrix.product(topo, pert, product);
+                for ((b, az), z) in self.rhs.iter_mut().zip(az).zip(&self.prescribed) {
+                    *b -= m * *z + *az;
+                }
+            }
+            for (i, b) in self.rhs.iter_mut().enumerate() {
+                *b = filter(i, *b);
+            }
+            for (i, dv) in self.dv.iter_mut().enumerate() {
+                *dv = filter(i, *dv);
+            }
+            // Block Jacobi: each node's own 3×3 block of the filtered system P·A·P, inverted on
+            // the plane the filter leaves free (the normal gets m, which the filter then removes
+            // again).
+            for (i, (inverse, block)) in self.preconditioner.iter_mut().zip(&self.diagonal).enumerate() {
+                let n = normals[i];
+                *inverse = if self.fixed[i] {
+                    DMat3::ZERO
+                } else if n == DVec3::ZERO {
+                    block.inverse()
+                } else {
+                    let plane = DMat3::IDENTITY - outer(n, n);
+                    let free = plane * (*block + self.sliding_drag[i] * plane) * plane + m * outer(n, n);
+                    plane * free.inverse() * plane
+                };
+            }
+            let preconditioner = &self.preconditioner;
+            let apply = |x: &[DVec3], out: &mut [DVec3]| {
+                pert.set(topo, x);
+                let ax = matrix.product(topo, pert, product);
+                for (i, ((o, ax), x)) in out.iter_mut().zip(ax).zip(x).enumerate() {
+                    *o = filter(i, m * *x + *ax + drag(i, *x));
+                }
+            };
+            let precondition = |r: &[DVec3], z: &mut [DVec3]| {
+                for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
+                    *z = *block * *r;
+                }
+            };
+            let [r, z, p, ap] = &mut self.scratch;
+            let this_pass = conjugate_gradient(
+                apply,
+                precondition,
+                &self.rhs,
+                &mut self.dv,
+                (r, z, p, ap),
+                self.settings.tolerance,
+                self.settings.max_iterations,
+            );
+            report = CgReport {
+                iterations: report.iterations + this_pass.iterations,
+                relative_residual: this_pass.relative_residual,
+            };
+            for (dv, z) in self.dv.iter_mut().zip(&self.prescribed) {
+                *dv += *z;
+            }
+            // Each surface's impulse on its node, A·Δv − b: a push (normal part ≥ 0) keeps the
+            // support for the next step, a pull releases it; a hold needs its tangential part
+            // within μ times the normal one. (No product when nothing is supported.)
+            if normals.iter().all(|n| *n == DVec3::ZERO) {
+                self.pressed.fill(false);
+                break;
+            }
             pert.set(topo, &self.dv);
             let ax = matrix.product(topo, pert, product);
+            let mut released = false;
             for (i, pressed) in self.pressed.iter_mut().enumerate() {
-                let n = self.supports[i];
+                let n = normals[i];
                 let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
-                *pressed = n != DVec3::ZERO && impulse.dot(n) >= 0.0;
+                let normal = impulse.dot(n);
+                *pressed = n != DVec3::ZERO && normal >= -0.5 * h * weight.length();
+                let holding = self.fixed[i] && !self.held[i];
+                let tangential = impulse - normal * n;
+                let mu = self.supports.friction[i];
+                if holding && tangential.length() > mu * normal.max(0.0) {
+                    // It slides: the surface resists with kinetic friction μ·λ_n against the
+                    // sliding, which the solve takes as a drag μ·λ_n/s, s the node's sliding
+                    // speed at the step's start (at least FRICTION_SPEED), so it cannot reverse
+                    // the motion. A node starting from rest thus speeds up by at most
+                    // |λ_t|/(μ·λ_n) a step until the drag is Coulomb's; any larger estimate of
+                    // s (from the hold's excess impulse) let rim nodes overshoot and flicker at
+                    // 50 mm/s on the drapemeter (session 10).
+                    let limit = mu * normal.max(0.0);
+                    let v = velocities[i];
+                    let speed = (v - n.dot(v) * n).length().max(FRICTION_SPEED);
+                    self.sliding_drag[i] = limit / speed;
+                    self.fixed[i] = false;
+                    released = true;
+                }
             }
-        } else {
-            self.pressed.fill(false);
+            if !released || pass + 1 == FRICTION_PASSES {
+                break;
+            }
+        }
+        // The kick leaves out the gravity Rapier adds back, except what pulls a pinned node (the
+        // pin takes that) and, without friction in the solve, what presses a node onto its
+        // support (Rapier's contact takes that, and bounds its friction by it). With friction in
+        // the solve, the solve's surface has carried the whole weight and the friction: Rapier's
+        // contact, left with nothing to stop, adds no friction of its own.
+        for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
+            let n = normals[i];
+            let carried = if self.static_friction && n != DVec3::ZERO && !self.held[i] {
+                weight
+            } else {
+                filter(n, self.held[i], weight)
+            };
+            *f = (m / h) * *dv - carried;
         }
         self.stats.solves += 1;
         self.stats.iterations += report.iterations as u64;
@@ -260,6 +380,20 @@ impl ImplicitSolver {
         report
     }
 }
+
+/// Solves with static-friction holds at most this many times a step: a hold outside its
+/// friction cone is released and the solve repeated (warm-started from the last pass).
+const FRICTION_PASSES: usize = 2;
+
+/// `v` with its component along `n` (a support's unit normal, or zero) removed, or zero for a
+/// fixed node.
+fn filter(n: DVec3, fixed: bool, v: DVec3) -> DVec3 {
+    if fixed { DVec3::ZERO } else { v - n.dot(v) * n }
+}
+
+/// Below this tangential speed (m/s), a sliding node's kinetic friction is a drag
+/// proportional to its speed (a regularized Coulomb law), so that the solve stays linear.
+const FRICTION_SPEED: f64 = 1e-4;
 
 /// Copies `from` into `to` if they have the same length (a checkpoint of this cloth).
 fn copy_if_same_length<T: Copy>(to: &mut [T], from: &[T]) -> bool {

@@ -351,8 +351,15 @@ pub enum IntegratorSpec {
 pub struct ImplicitSolverSpec {
     /// Most matrix products per step (default 200; thick cotton at 1/240 s takes 86 on average).
     pub max_iterations: usize,
-    /// Relative residual at which a solve stops (dimensionless; default 0.001).
+    /// Relative residual at which a solve stops, in the block-Jacobi preconditioner's norm
+    /// (dimensionless; default 0.001).
     pub tolerance: f64,
+    /// Coulomb friction of the supports inside the solve: supported nodes held while their
+    /// surface's friction can hold them, dragged at μ times the normal impulse when they slide
+    /// (`docs/model.md` §12). Default (absent): on when stretch is in the solve (`Kes`,
+    /// `Seed`), off with rope joints (`Constraint`), which the solve does not see; there
+    /// Rapier's contact applies all friction.
+    pub friction: Option<bool>,
 }
 
 impl Default for ImplicitSolverSpec {
@@ -361,6 +368,7 @@ impl Default for ImplicitSolverSpec {
         Self {
             max_iterations: d.max_iterations,
             tolerance: d.tolerance,
+            friction: d.friction,
         }
     }
 }

@@ -95,9 +95,7 @@ pub fn solve_implicit(
     for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a, h)) in &mut cloths {
         let start = Instant::now();
         let solver = &mut implicit.0;
-        nodes
-            .0
-            .read_supports(&physics.0, &mut solver.supports, &mut solver.touching);
+        nodes.0.read_supports(&physics.0, &mut solver.supports);
         let state = &mut *state;
         let generators = [
             b.map(|e| &e.0 as &dyn ForceGenerator),

@@ -1,0 +1,40 @@
+//! What the implicit solve knows about the fixed surfaces under the cloth, read from Rapier.
+
+use glam::DVec3;
+
+/// Per node, the fixed or kinematic surfaces Rapier's last step found under it. Filled by
+/// [`crate::bodies::ClothBodies::read_supports`] before each [`super::ImplicitSolver::solve`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Supports {
+    /// Unit normal (towards the node) of the surface that pushed the node in Rapier's last
+    /// step (a contact with a positive normal impulse; the deepest if several did); zero for a
+    /// node no surface pushed.
+    pub pushed: Vec<DVec3>,
+    /// Unit normal of the nearest surface within [`crate::bodies::TOUCH_DISTANCE`] of the node,
+    /// whether it pushed or not; zero if none is that close.
+    pub touching: Vec<DVec3>,
+    /// Coulomb friction coefficient μ (dimensionless) between the node and the surface in
+    /// [`Self::pushed`], or, where none pushed, the one in [`Self::touching`]; 0 if neither.
+    pub friction: Vec<f64>,
+}
+
+impl Supports {
+    /// No surface under any of `n` nodes.
+    pub fn new(n: usize) -> Self {
+        Self {
+            pushed: vec![DVec3::ZERO; n],
+            touching: vec![DVec3::ZERO; n],
+            friction: vec![0.0; n],
+        }
+    }
+
+    /// Sizes the lists for `n` nodes and clears them.
+    pub fn clear(&mut self, n: usize) {
+        for list in [&mut self.pushed, &mut self.touching] {
+            list.clear();
+            list.resize(n, DVec3::ZERO);
+        }
+        self.friction.clear();
+        self.friction.resize(n, 0.0);
+    }
+}
