@@ -235,15 +235,19 @@ impl ImplicitSolver {
             // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
             // presses on them. A fixed node keeps no component at all.
             let filter = |i: usize, v: DVec3| filter(normals[i], self.fixed[i], v);
-            // A node stuck by friction stops: its Δv is prescribed, z = −(its tangential
-            // velocity), and the solve finds the rest, y = Δv − z, from P·A·y = P·(b − A·z).
-            let stuck = |i: usize| self.fixed[i] && !self.held[i];
+            // With friction in the solve, the solve's surface stops a supported node's motion
+            // along its normal (Rapier's contact, left the node's weight to carry, does not),
+            // and a node stuck by friction stops altogether: those parts of Δv are prescribed,
+            // z, and the solve finds the rest, y = Δv − z, from P·A·y = P·(b − A·z).
             let mut any_stuck = false;
             for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
-                *z = if stuck(i) {
-                    normals[i].dot(*v) * normals[i] - *v
-                } else {
+                let n = normals[i];
+                *z = if self.held[i] || !self.static_friction || n == DVec3::ZERO {
                     DVec3::ZERO
+                } else if self.fixed[i] {
+                    -*v
+                } else {
+                    -n.dot(*v) * n
                 };
                 any_stuck |= *z != DVec3::ZERO;
             }
