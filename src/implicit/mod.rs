@@ -18,11 +18,12 @@
 //!    still touch the surface that pushed them in the last solve (their release rule: a support
 //!    goes only when the surface would pull), and the whole Δv held at zero for nodes pinned to
 //!    a body that cannot move;
-//! 3a. with friction in the solve ([`ImplicitSolver::apply_friction`], the default when no rope
-//!    joints hold the stretch): each supported node is first held still, then, if the hold's
-//!    tangential impulse exceeds μ times its normal impulse, released and solved again with a
-//!    kinetic friction drag of μ times that normal impulse (Coulomb);
-//! 4. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
+//! 4. with friction in the solve ([`ImplicitSolver::apply_friction`], the default when no rope
+//!    joints hold the stretch), first holds each supported node still (and stops its motion
+//!    along the normal), then, for a hold whose tangential impulse exceeds μ times its normal
+//!    impulse, releases it and solves again with a kinetic friction drag of μ times that normal
+//!    impulse (Coulomb);
+//! 5. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
 //! Only our forces, gravity and (optionally) the supports' friction are implicit; Rapier still
