@@ -26,6 +26,30 @@ fn decades(lo: f64, hi: f64) -> std::ops::Range<f64> {
     lo..hi
 }
 
+/// Ticks at 1, 2 and 5 times each power of ten within `range` (both ends > 0): a log axis gets
+/// labels even when its range spans a single decade.
+fn log_ticks(range: &std::ops::Range<f64>) -> Vec<f64> {
+    let (first, last) = (
+        range.start.log10().floor() as i32,
+        range.end.log10().ceil() as i32,
+    );
+    (first..=last)
+        .flat_map(|e| [1.0, 2.0, 5.0].map(|k| k * 10f64.powi(e)))
+        .filter(|v| *v >= range.start * (1.0 - 1e-9) && *v <= range.end * (1.0 + 1e-9))
+        .collect()
+}
+
+/// A tick's label: the value to three significant digits, without trailing zeros or the
+/// rounding noise of powers of ten (0.3, 20, 1e-5), so two ticks never read the same.
+fn tick_label(v: &f64) -> String {
+    let rounded: f64 = format!("{v:.2e}").parse().unwrap_or(*v);
+    if rounded != 0.0 && !(1e-3..1e5).contains(&rounded.abs()) {
+        format!("{rounded:e}")
+    } else {
+        format!("{rounded}")
+    }
+}
+
 /// The rows of the curve for key `k`: every other key at its default value when the default is
 /// among its values (else its first value), sorted by wall time.
 fn curve(study: &Study, k: usize) -> Vec<&StudyRow> {
@@ -81,11 +105,14 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(70)
-            .build_cartesian_2d(x_range.clone().log_scale(), y_range.log_scale())?;
+            .build_cartesian_2d(
+                x_range.clone().log_scale().with_key_points(log_ticks(&x_range)),
+                y_range.clone().log_scale().with_key_points(log_ticks(&y_range)),
+            )?;
         chart
             .configure_mesh()
-            .x_labels(12)
-            .y_labels(12)
+            .x_label_formatter(&tick_label)
+            .y_label_formatter(&tick_label)
             .x_desc("wall time (s)")
             .y_desc(label)
             .label_style(("sans-serif", 14))
@@ -137,4 +164,26 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
     }
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_decade_gets_labels_at_1_2_and_5() {
+        let ticks = log_ticks(&(0.01..0.1));
+        let labels: Vec<String> = ticks.iter().map(tick_label).collect();
+        assert_eq!(labels, ["0.01", "0.02", "0.05", "0.1"]);
+    }
+
+    #[test]
+    fn labels_of_round_values_read_cleanly() {
+        let labels: Vec<String> = log_ticks(&(1e-5..100.0)).iter().map(tick_label).collect();
+        assert_eq!(labels.first().map(String::as_str), Some("1e-5"));
+        assert!(labels.contains(&"0.2".to_string()) && labels.contains(&"50".to_string()));
+        let mut unique = labels.clone();
+        unique.dedup();
+        assert_eq!(unique, labels, "two ticks read the same");
+    }
 }
