@@ -69,14 +69,16 @@ pub struct ImplicitSolver {
     /// The fixed surfaces under the nodes in Rapier's last step. Set before each
     /// [`Self::solve`] (e.g. by [`crate::bodies::ClothBodies::read_supports`]).
     pub supports: Supports,
-    /// Whether a supported node is held still while static friction can hold it (see
-    /// [`Self::apply_friction`]; default off).
+    /// Whether the solve applies the supports' Coulomb friction (see [`Self::apply_friction`];
+    /// default off).
     static_friction: bool,
-    /// This step's nodes whose whole Δv is held at zero: pinned, or stuck by static friction.
+    /// This step's nodes whose whole Δv is prescribed: pinned (held at zero) or stuck by
+    /// static friction (stopped).
     fixed: Vec<bool>,
     /// Each node's 3×3 diagonal block of M + h·C + h²·H, before the filter.
     diagonal: Vec<DMat3>,
-    /// This step's prescribed Δv of the nodes stuck by friction (m/s; zero elsewhere).
+    /// This step's prescribed part of Δv (m/s), with friction in the solve: a stuck node's
+    /// whole velocity stopped, a sliding one's motion along its support normal; zero elsewhere.
     prescribed: Vec<DVec3>,
     /// This step's kinetic friction of each node that slides, as a drag coefficient c (kg: the
     /// surface's tangential impulse is −c times the node's tangential velocity at the step's
@@ -337,7 +339,7 @@ impl ImplicitSolver {
                 let n = normals[i];
                 let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
                 let normal = impulse.dot(n);
-                *pressed = n != DVec3::ZERO && normal >= -0.5 * h * weight.length();
+                *pressed = n != DVec3::ZERO && normal >= 0.0;
                 let holding = self.fixed[i] && !self.held[i];
                 let tangential = impulse - normal * n;
                 let mu = self.supports.friction[i];
