@@ -71,7 +71,7 @@ pub struct ImplicitSolver {
     pub supports: Supports,
     /// Whether the solve applies the supports' Coulomb friction (see [`Self::apply_friction`];
     /// default off).
-    static_friction: bool,
+    friction: bool,
     /// This step's nodes whose whole Δv is prescribed: pinned (held at zero) or stuck by
     /// static friction (stopped).
     fixed: Vec<bool>,
@@ -131,7 +131,7 @@ impl ImplicitSolver {
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: Supports::new(n),
-            static_friction: false,
+            friction: false,
             fixed: vec![false; n],
             diagonal: vec![DMat3::ZERO; n],
             prescribed: vec![DVec3::ZERO; n],
@@ -162,7 +162,7 @@ impl ImplicitSolver {
     /// cloth is in the solve: Rapier's rope joints are not, and with them the holds fail
     /// (`docs/model.md` §12).
     pub fn apply_friction(&mut self, on: bool) {
-        self.static_friction = on;
+        self.friction = on;
     }
 
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
@@ -227,7 +227,7 @@ impl ImplicitSolver {
             .zip(normals)
             .zip(&self.supports.friction)
         {
-            *fixed = *held || (self.static_friction && *n != DVec3::ZERO && *mu > 0.0);
+            *fixed = *held || (self.friction && *n != DVec3::ZERO && *mu > 0.0);
         }
         self.sliding_drag.fill(0.0);
         let matrix = &*matrix;
@@ -241,17 +241,17 @@ impl ImplicitSolver {
             // along its normal (Rapier's contact, left the node's weight to carry, does not),
             // and a node stuck by friction stops altogether: those parts of Δv are prescribed,
             // z, and the solve finds the rest, y = Δv − z, from P·A·y = P·(b − A·z).
-            let mut any_stuck = false;
+            let mut any_prescribed = false;
             for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
                 let n = normals[i];
-                *z = if self.held[i] || !self.static_friction || n == DVec3::ZERO {
+                *z = if self.held[i] || !self.friction || n == DVec3::ZERO {
                     DVec3::ZERO
                 } else if self.fixed[i] {
                     -*v
                 } else {
                     -n.dot(*v) * n
                 };
-                any_stuck |= *z != DVec3::ZERO;
+                any_prescribed |= *z != DVec3::ZERO;
             }
             // A sliding node's drag: −c·(v + Δv) along the surface, the −c·v part known.
             let drag = |i: usize, v: DVec3| {
@@ -267,7 +267,7 @@ impl ImplicitSolver {
             {
                 *b = *u - drag(i, *v);
             }
-            if any_stuck {
+            if any_prescribed {
                 pert.set(topo, &self.prescribed);
                 let az = matrix.product(topo, pert, product);
                 for ((b, az), z) in self.rhs.iter_mut().zip(az).zip(&self.prescribed) {
@@ -370,7 +370,7 @@ impl ImplicitSolver {
         // contact, left with nothing to stop, adds no friction of its own.
         for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
             let n = normals[i];
-            let carried = if self.static_friction && n != DVec3::ZERO && !self.held[i] {
+            let carried = if self.friction && n != DVec3::ZERO && !self.held[i] {
                 weight
             } else {
                 filter(n, self.held[i], weight)
