@@ -249,15 +249,12 @@ impl ImplicitSolver {
                 } else if self.fixed[i] {
                     -*v
                 } else {
-                    -n.dot(*v) * n
+                    tangential(n, *v) - *v
                 };
                 any_prescribed |= *z != DVec3::ZERO;
             }
             // A sliding node's drag: −c·(v + Δv) along the surface, the −c·v part known.
-            let drag = |i: usize, v: DVec3| {
-                let n = normals[i];
-                self.sliding_drag[i] * (v - n.dot(v) * n)
-            };
+            let drag = |i: usize, v: DVec3| self.sliding_drag[i] * tangential(normals[i], v);
             for (i, ((b, u), v)) in self
                 .rhs
                 .iter_mut()
@@ -334,6 +331,8 @@ impl ImplicitSolver {
             }
             pert.set(topo, &self.dv);
             let ax = matrix.product(topo, pert, product);
+            // The last pass only judges the supports: a release there could not be solved.
+            let may_release = pass + 1 < FRICTION_PASSES;
             let mut released = false;
             for (i, pressed) in self.pressed.iter_mut().enumerate() {
                 let n = normals[i];
@@ -341,9 +340,9 @@ impl ImplicitSolver {
                 let normal = impulse.dot(n);
                 *pressed = n != DVec3::ZERO && normal >= 0.0;
                 let holding = self.fixed[i] && !self.held[i];
-                let tangential = impulse - normal * n;
+                let sideways = tangential(n, impulse).length();
                 let mu = self.supports.friction[i];
-                if holding && tangential.length() > mu * normal.max(0.0) {
+                if may_release && holding && sideways > mu * normal.max(0.0) {
                     // It slides: the surface resists with kinetic friction μ·λ_n against the
                     // sliding, which the solve takes as a drag μ·λ_n/s, s the node's sliding
                     // speed at the step's start (at least FRICTION_SPEED), so it cannot reverse
@@ -351,15 +350,13 @@ impl ImplicitSolver {
                     // |λ_t|/(μ·λ_n) a step until the drag is Coulomb's; any larger estimate of
                     // s (from the hold's excess impulse) let rim nodes overshoot and flicker at
                     // 50 mm/s on the drapemeter (session 10).
-                    let limit = mu * normal.max(0.0);
-                    let v = velocities[i];
-                    let speed = (v - n.dot(v) * n).length().max(FRICTION_SPEED);
-                    self.sliding_drag[i] = limit / speed;
+                    let speed = tangential(n, velocities[i]).length().max(FRICTION_SPEED);
+                    self.sliding_drag[i] = mu * normal.max(0.0) / speed;
                     self.fixed[i] = false;
                     released = true;
                 }
             }
-            if !released || pass + 1 == FRICTION_PASSES {
+            if !released {
                 break;
             }
         }
@@ -394,7 +391,12 @@ const FRICTION_PASSES: usize = 2;
 /// `v` with its component along `n` (a support's unit normal, or zero) removed, or zero for a
 /// fixed node.
 fn filter(n: DVec3, fixed: bool, v: DVec3) -> DVec3 {
-    if fixed { DVec3::ZERO } else { v - n.dot(v) * n }
+    if fixed { DVec3::ZERO } else { tangential(n, v) }
+}
+
+/// `v` with its component along the unit normal `n` removed (`v` itself for `n` = 0).
+fn tangential(n: DVec3, v: DVec3) -> DVec3 {
+    v - n.dot(v) * n
 }
 
 /// Below this tangential speed (m/s), a sliding node's kinetic friction is a drag
