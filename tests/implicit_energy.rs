@@ -18,8 +18,10 @@ fn total_energy(gens: &[Option<&dyn ForceGenerator>], geo: &ClothGeometry, v: &[
     kinetic + gens.iter().flatten().map(|g| g.energy(geo)).sum::<f64>()
 }
 
-#[test]
-fn released_sheared_sample_loses_energy_at_large_steps() {
+/// Releases each sheared or bent configuration at 1/240 s and 1/60 s and integrates our forces
+/// alone for 200 steps with `settings`; returns, per release, its name, h, the largest rise of
+/// the total energy in one step and the last energy, both as fractions of the starting one.
+fn releases(settings: ImplicitSettings) -> Vec<(String, f64, f64, f64)> {
     let fabric = common::shipped_fabric("thick_cotton");
     let sigma = 0.01;
     let topo = Arc::new(ClothTopology::rectangle(15, 15, sigma));
@@ -31,6 +33,7 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
     let damping = LinkDamping::new(topo.clone(), 150.0, m);
     let gens: [Option<&dyn ForceGenerator>; 4] =
         [Some(&bending), Some(&trellising), Some(&tensile), Some(&damping)];
+    let mut out = Vec::new();
     for (name, start) in configs
         .iter()
         .filter(|(n, _)| n.starts_with("sheared") || n == "bent")
@@ -40,10 +43,11 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
             let mut v = vec![DVec3::ZERO; x.len()];
             let mut geo = ClothGeometry::new(topo.clone());
             let mut buffer = ForceBuffer::new(&topo);
-            let mut solver = ImplicitSolver::new(topo.clone(), m, ImplicitSettings::default());
+            let mut solver = ImplicitSolver::new(topo.clone(), m, settings);
             geo.update(&x);
             let mut energy = total_energy(&gens, &geo, &v, m);
             let initial = energy;
+            let mut largest_rise = f64::NEG_INFINITY;
             for step in 0..200 {
                 buffer.clear();
                 for g in gens.iter().flatten() {
@@ -58,12 +62,54 @@ fn released_sheared_sample_loses_energy_at_large_steps() {
                 geo.update(&x);
                 let next = total_energy(&gens, &geo, &v, m);
                 assert!(next.is_finite(), "{name}, h = {h}: non-finite at step {step}");
-                assert!(
-                    next <= energy + 1e-9 * initial,
-                    "{name}, h = {h}: energy rose at step {step}: {energy:e} → {next:e}"
-                );
+                largest_rise = largest_rise.max((next - energy) / initial);
                 energy = next;
             }
+            out.push((name.clone(), h, largest_rise, energy / initial));
         }
+    }
+    out
+}
+
+/// Solves each step to its relative tolerance alone, without the velocity floor that by design
+/// stops a solve at a fixed velocity error.
+fn exact() -> ImplicitSettings {
+    ImplicitSettings {
+        velocity_tolerance: 0.0,
+        ..ImplicitSettings::default()
+    }
+}
+
+#[test]
+fn released_sheared_sample_loses_energy_at_large_steps() {
+    // The claim is backward Euler's, so the solves are exact to round-off.
+    for (name, h, rise, _) in releases(exact()) {
+        assert!(
+            rise <= 1e-9,
+            "{name}, h = {h}: energy rose by {rise:e} of the start in a step"
+        );
+    }
+}
+
+#[test]
+fn the_default_velocity_floor_leaves_the_energy_decay_as_it_was() {
+    // The default floor (1e-5 m/s) stops a solve at a fixed velocity error. On a slow, lightly
+    // damped mode that error can outweigh the step's dissipation, so the energy may rise in a
+    // step by about M·|v|·1e-5 m/s (M = 7.9 g, |v| a few cm/s: ~1e-9 J): measured at most
+    // 8e-8 of the start, bounded here at 1e-6. What is left after 200 steps (4e-4 of the
+    // start at most) matches the exact solves' to 5 % (measured at most 0.8 %, the bent
+    // sample at 1/60 s, where the slow mode is).
+    let exact = releases(exact());
+    for ((name, h, rise, last), (.., exact_last)) in
+        releases(ImplicitSettings::default()).into_iter().zip(exact)
+    {
+        assert!(
+            rise <= 1e-6,
+            "{name}, h = {h}: energy rose by {rise:e} of the start in a step"
+        );
+        assert!(
+            (last - exact_last).abs() <= 0.05 * exact_last,
+            "{name}, h = {h}: {last:e} of the energy left after 200 steps, exact solves {exact_last:e}"
+        );
     }
 }

@@ -11,34 +11,53 @@ pub struct CgReport {
     /// preconditioner P ≈ A⁻¹, |r|_P = √(rᵀ·P·r), which weighs each node's residual by the
     /// inverse of its own stiffness, so that the figure is a relative error in velocity terms.
     pub relative_residual: f64,
+    /// Whether the solve met its stopping rule ([`Stop`]) rather than running out of products
+    /// or of positive curvature.
+    #[serde(default)]
+    pub converged: bool,
+}
+
+/// When [`conjugate_gradient`] stops: at |b − A·x|_P ≤ max(`relative`·|b|_P, `absolute`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stop {
+    /// Residual relative to the right-hand side's, both in the preconditioner's norm
+    /// (dimensionless).
+    pub relative: f64,
+    /// Residual below which the solve stops whatever b (the units of |b|_P, √(bᵀ·P·b)). A
+    /// relative rule alone chases round-off when b nearly vanishes (a cloth at rest), so a
+    /// caller passes the accuracy it needs in absolute terms; 0 for none.
+    pub absolute: f64,
+    /// Most operator products.
+    pub max_iterations: usize,
 }
 
 fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x.dot(*y)).sum()
 }
 
-/// Solves A·x = b, starting from the `x` passed in (a warm start), until |b − A·x|_P ≤
-/// `tolerance`·|b|_P or `max_iterations` products. The norm is the preconditioner's
+/// Solves A·x = b, starting from the `x` passed in (a warm start), until [`Stop`] is met or
+/// its products are used up. The norm is the preconditioner's
 /// ([`CgReport::relative_residual`]): in the plain norm, a few nodes with very stiff diagonal
 /// blocks (a support's friction) dominate |r|, and the solve would stop while the light free
 /// nodes' velocities are still far off. `apply(p, out)` writes A·p into `out`;
 /// `precondition(r, z)` writes z = P·r for a symmetric positive definite P ≈ A⁻¹.
 /// `r`, `z`, `p`, `ap` are scratch buffers of the same length as `b`.
-#[allow(clippy::too_many_arguments)]
 pub fn conjugate_gradient(
     mut apply: impl FnMut(&[DVec3], &mut [DVec3]),
     precondition: impl Fn(&[DVec3], &mut [DVec3]),
     b: &[DVec3],
     x: &mut [DVec3],
     (r, z, p, ap): (&mut [DVec3], &mut [DVec3], &mut [DVec3], &mut [DVec3]),
-    tolerance: f64,
-    max_iterations: usize,
+    stop: Stop,
 ) -> CgReport {
     precondition(b, z);
     let b_norm = dot(b, z).max(0.0).sqrt();
     if b_norm == 0.0 {
         x.fill(DVec3::ZERO);
-        return CgReport::default();
+        return CgReport {
+            converged: true,
+            ..CgReport::default()
+        };
     }
     apply(x, ap);
     for i in 0..b.len() {
@@ -47,10 +66,10 @@ pub fn conjugate_gradient(
     precondition(r, z);
     p.copy_from_slice(z);
     let mut rz = dot(r, z);
-    let target = tolerance * b_norm;
+    let target = (stop.relative * b_norm).max(stop.absolute);
     let mut residual = rz.max(0.0).sqrt();
     let mut iterations = 0;
-    while residual > target && iterations < max_iterations {
+    while residual > target && iterations < stop.max_iterations {
         apply(p, ap);
         iterations += 1;
         let curvature = dot(p, ap);
@@ -74,6 +93,7 @@ pub fn conjugate_gradient(
     CgReport {
         iterations,
         relative_residual: residual / b_norm,
+        converged: residual <= target,
     }
 }
 
@@ -115,12 +135,50 @@ mod tests {
                 *z = *r / if i % 2 == 0 { 1e4 + 1.0 } else { 2.0 };
             }
         };
-        let report = conjugate_gradient(chain, jacobi, &b, &mut x, (r, z, p, ap), 1e-3, 100);
-        assert!(report.relative_residual <= 1e-3, "{report:?}");
+        let stop = Stop {
+            relative: 1e-3,
+            absolute: 0.0,
+            max_iterations: 100,
+        };
+        let report = conjugate_gradient(chain, jacobi, &b, &mut x, (r, z, p, ap), stop);
+        assert!(report.converged && report.relative_residual <= 1e-3, "{report:?}");
         let worst = x
             .iter()
             .map(|x| (*x - DVec3::ONE).abs().max_element())
             .fold(0.0, f64::max);
         assert!(worst < 1e-2, "a node is {worst:e} m/s off after {report:?}");
+    }
+
+    #[test]
+    fn a_warm_start_within_the_absolute_floor_is_kept() {
+        // A cloth at rest: b is 1e-9 of its moving size and the warm start already solves it
+        // to within the floor, so the solve stops at once and leaves x as it was; with no
+        // floor the relative rule makes it iterate on that tiny b.
+        let n = 40;
+        let mut b = vec![DVec3::ZERO; n];
+        chain(&vec![DVec3::splat(1e-9); n], &mut b);
+        let start = vec![DVec3::ZERO; n];
+        let mut scratch: [Vec<DVec3>; 4] = std::array::from_fn(|_| vec![DVec3::ZERO; n]);
+        let jacobi = |r: &[DVec3], z: &mut [DVec3]| {
+            for (i, (z, r)) in z.iter_mut().zip(r).enumerate() {
+                *z = *r / if i % 2 == 0 { 1e4 + 1.0 } else { 2.0 };
+            }
+        };
+        let solve = |absolute: f64, scratch: &mut [Vec<DVec3>; 4]| {
+            let [r, z, p, ap] = scratch;
+            let mut x = start.clone();
+            let stop = Stop {
+                relative: 1e-3,
+                absolute,
+                max_iterations: 100,
+            };
+            let report = conjugate_gradient(chain, jacobi, &b, &mut x, (r, z, p, ap), stop);
+            (report, x)
+        };
+        let (kept, x) = solve(1e-3, &mut scratch);
+        assert!(kept.converged && kept.iterations == 0, "{kept:?}");
+        assert_eq!(x, start);
+        let (chased, _) = solve(0.0, &mut scratch);
+        assert!(chased.converged && chased.iterations > 0, "{chased:?}");
     }
 }

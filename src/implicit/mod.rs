@@ -34,7 +34,7 @@ mod conjugate_gradient;
 mod implicit_solver;
 mod supports;
 
-pub use conjugate_gradient::{CgReport, conjugate_gradient};
+pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
 pub use supports::Supports;
 

@@ -354,6 +354,10 @@ pub struct ImplicitSolverSpec {
     /// Relative residual at which a solve stops, in the block-Jacobi preconditioner's norm
     /// (dimensionless; default 0.001).
     pub tolerance: f64,
+    /// Mass-weighted RMS velocity error at which a solve stops whatever its relative residual
+    /// (m/s; default 1e-5, 1 % of the default settle speed; 0 for none): near rest the
+    /// right-hand side nearly vanishes and the relative rule alone chases it.
+    pub velocity_tolerance_m_per_s: f64,
     /// Coulomb friction of the supports inside the solve: supported nodes held while their
     /// surface's friction can hold them, dragged at μ times the normal impulse when they slide
     /// (`docs/model.md` §12). Default (absent): on when stretch is in the solve (`Kes`,
@@ -368,6 +372,7 @@ impl Default for ImplicitSolverSpec {
         Self {
             max_iterations: d.max_iterations,
             tolerance: d.tolerance,
+            velocity_tolerance_m_per_s: d.velocity_tolerance,
             friction: d.friction,
         }
     }

@@ -278,6 +278,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1.0,
         "(relative residual)",
     )?;
+    in_closed(
+        "integration.implicit_solver.velocity_tolerance_m_per_s",
+        i.implicit_solver.velocity_tolerance_m_per_s,
+        0.0,
+        1.0,
+        "m/s",
+    )?;
     if let Some(modulus) = s.effects.compression_modulus_n_per_m {
         if s.effects.stretch != StretchModel::Constraint {
             return Err(violation(

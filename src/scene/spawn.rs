@@ -51,6 +51,7 @@ fn integrator(spec: &IntegrationSpec) -> Integrator {
         IntegratorSpec::Implicit => Integrator::Implicit(ImplicitSettings {
             max_iterations: spec.implicit_solver.max_iterations,
             tolerance: spec.implicit_solver.tolerance,
+            velocity_tolerance: spec.implicit_solver.velocity_tolerance_m_per_s,
             friction: spec.implicit_solver.friction,
         }),
     }
