@@ -355,8 +355,8 @@ pub struct ImplicitSolverSpec {
     /// (dimensionless; default 0.001).
     pub tolerance: f64,
     /// Mass-weighted RMS velocity error at which a solve stops whatever its relative residual
-    /// (m/s; default 1e-5, 1 % of the default settle speed; 0 for none): near rest the
-    /// right-hand side nearly vanishes and the relative rule alone chases it.
+    /// (m/s; default 3e-6; 0 for none): near rest the right-hand side nearly vanishes and the
+    /// relative rule alone chases it.
     pub velocity_tolerance_m_per_s: f64,
     /// Coulomb friction of the supports inside the solve: supported nodes held while their
     /// surface's friction can hold them, dragged at μ times the normal impulse when they slide
