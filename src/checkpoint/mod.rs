@@ -59,6 +59,9 @@ pub struct Snapshot {
     /// The implicit solve's pushed supports (since session 9; older checkpoints have none).
     #[serde(default)]
     implicit_pressed: Option<Vec<bool>>,
+    /// The implicit solve's sliding nodes' friction impulses (since session 11).
+    #[serde(default)]
+    implicit_sliding: Option<Vec<f64>>,
     settle: SettleState,
     motion: Motion,
     effect_calls: Vec<(String, u64, f64)>,
@@ -97,6 +100,9 @@ impl Snapshot {
                 .get::<Implicit>(cloth)
                 .map(|i| (i.0.warm_start().to_vec(), i.0.stats)),
             implicit_pressed: world.get::<Implicit>(cloth).map(|i| i.0.pressed().to_vec()),
+            implicit_sliding: world
+                .get::<Implicit>(cloth)
+                .map(|i| i.0.sliding_impulses().to_vec()),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
             effect_calls: ledger
@@ -142,7 +148,11 @@ impl Snapshot {
                     .implicit_pressed
                     .as_ref()
                     .is_none_or(|p| i.0.restore_pressed(p));
-                i.0.restore_warm_start(dv) && pressed
+                let sliding = self
+                    .implicit_sliding
+                    .as_ref()
+                    .is_none_or(|s| i.0.restore_sliding_impulses(s));
+                i.0.restore_warm_start(dv) && pressed && sliding
             }
             (i, s) => i.is_none() && s.is_none(),
         };

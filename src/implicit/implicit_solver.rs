@@ -53,6 +53,9 @@ pub struct ImplicitStats {
     /// Solves that stopped short of their tolerance (at `max_iterations`, or on a direction of
     /// non-positive curvature).
     pub unconverged: u64,
+    /// Steps solved twice because a support's static friction gave way (a step's release).
+    #[serde(default)]
+    pub repeated: u64,
     /// The last solve.
     pub last: CgReport,
 }
@@ -93,6 +96,10 @@ pub struct ImplicitSolver {
     /// surface's tangential impulse is −c times the node's tangential velocity at the step's
     /// end; zero elsewhere).
     sliding_drag: Vec<f64>,
+    /// Each sliding node's kinetic friction impulse μ·λ_n (N·s) from its last solve, zero for
+    /// a node held or unsupported: a node that slid keeps sliding into the next step, with
+    /// this impulse as its drag, until it has all but stopped.
+    sliding_impulse: Vec<f64>,
     /// Whether the last solve's surface pushed each supported node (Baraff & Witkin's release
     /// rule: a support is kept, while the node touches, until the surface would have to pull).
     pressed: Vec<bool>,
@@ -127,6 +134,17 @@ impl ImplicitSolver {
         copy_if_same_length(&mut self.pressed, pressed)
     }
 
+    /// Each node's kinetic friction impulse from the last solve (N·s; for checkpoints).
+    pub fn sliding_impulses(&self) -> &[f64] {
+        &self.sliding_impulse
+    }
+
+    /// Restores what [`Self::sliding_impulses`] returned; `false` (and nothing changed) if it
+    /// does not fit this cloth.
+    pub fn restore_sliding_impulses(&mut self, impulses: &[f64]) -> bool {
+        copy_if_same_length(&mut self.sliding_impulse, impulses)
+    }
+
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
         let n = topology.particle_count;
@@ -145,6 +163,7 @@ impl ImplicitSolver {
             diagonal: vec![DMat3::ZERO; n],
             prescribed: vec![DVec3::ZERO; n],
             sliding_drag: vec![0.0; n],
+            sliding_impulse: vec![0.0; n],
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
@@ -165,8 +184,9 @@ impl ImplicitSolver {
     /// Applies the supports' Coulomb friction inside the solve. Each supported node starts the
     /// step held (its tangential velocity stopped); a hold whose tangential impulse exceeds μ
     /// times its normal impulse is released, and the node slides against a kinetic friction
-    /// drag. Without it the solve lets supported nodes slide freely in the surface's plane and
-    /// leaves friction to Rapier's contact, which sees only the node's weight pressing on the
+    /// drag, into the following steps until it has all but stopped. Without it the solve lets
+    /// supported nodes slide freely in the surface's plane and leaves friction to Rapier's
+    /// contact, which sees only the node's weight pressing on the
     /// surface, not the cloth's pull around a rim. Only consistent when every force on the
     /// cloth is in the solve: Rapier's rope joints are not, and with them the holds fail
     /// (`docs/model.md` §12).
@@ -226,8 +246,9 @@ impl ImplicitSolver {
         }
         self.diagonal.fill(DMat3::from_diagonal(DVec3::splat(m)));
         matrix.add_particle_diagonal(topo, &mut self.diagonal);
-        // Static friction: every node a surface supports starts the step held; a hold whose
-        // impulse leaves the friction cone is released below and the solve repeated.
+        // Static friction: every node a surface supports starts the step held (unless it is
+        // still sliding, below); a hold whose impulse leaves the friction cone is released
+        // after the solve and the solve repeated.
         let normals = &self.supports.pushed;
         for (((fixed, held), n), mu) in self
             .fixed
@@ -238,7 +259,25 @@ impl ImplicitSolver {
         {
             *fixed = *held || (self.friction && *n != DVec3::ZERO && *mu > 0.0);
         }
-        self.sliding_drag.fill(0.0);
+        // Kinetic friction: a node that slid in the last step and still slides (faster than
+        // FRICTION_SPEED along its surface) starts this one sliding, against the drag of its
+        // last friction impulse at its current speed; only a hold that gives way needs a
+        // second solve. A node that has all but stopped is held again.
+        for (i, (drag, impulse)) in self
+            .sliding_drag
+            .iter_mut()
+            .zip(&mut self.sliding_impulse)
+            .enumerate()
+        {
+            let speed = tangential(normals[i], velocities[i]).length();
+            *drag = 0.0;
+            if !self.fixed[i] || self.held[i] || speed <= FRICTION_SPEED {
+                *impulse = 0.0;
+            } else if *impulse > 0.0 {
+                *drag = *impulse / speed;
+                self.fixed[i] = false;
+            }
+        }
         let matrix = &*matrix;
         // The error δv = A⁻¹·r has |r|_P² ≈ rᵀ·A⁻¹·r = δvᵀ·A·δv ≥ Σ m·|δv|², so a residual below
         // √(N·m)·ε leaves a mass-weighted RMS velocity error below about ε.
@@ -351,6 +390,9 @@ impl ImplicitSolver {
                 let holding = self.fixed[i] && !self.held[i];
                 let sideways = tangential(n, impulse).length();
                 let mu = self.supports.friction[i];
+                if self.sliding_drag[i] > 0.0 {
+                    self.sliding_impulse[i] = mu * normal.max(0.0);
+                }
                 if may_release && holding && sideways > mu * normal.max(0.0) {
                     // It slides: the surface resists with kinetic friction μ·λ_n against the
                     // sliding, which the solve takes as a drag μ·λ_n/s, s the node's sliding
@@ -360,7 +402,8 @@ impl ImplicitSolver {
                     // s (from the hold's excess impulse) let rim nodes overshoot and flicker at
                     // 50 mm/s on the drapemeter (session 10).
                     let speed = tangential(n, velocities[i]).length().max(FRICTION_SPEED);
-                    self.sliding_drag[i] = mu * normal.max(0.0) / speed;
+                    self.sliding_impulse[i] = mu * normal.max(0.0);
+                    self.sliding_drag[i] = self.sliding_impulse[i] / speed;
                     self.fixed[i] = false;
                     released = true;
                 }
@@ -368,6 +411,7 @@ impl ImplicitSolver {
             if !released {
                 break;
             }
+            self.stats.repeated += 1;
         }
         // The kick leaves out the gravity Rapier adds back, except what pulls a pinned node (the
         // pin takes that) and, without friction in the solve, what presses a node onto its

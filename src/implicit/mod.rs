@@ -22,7 +22,9 @@
 //!    joints hold the stretch), first holds each supported node still (and stops its motion
 //!    along the normal), then, for a hold whose tangential impulse exceeds μ times its normal
 //!    impulse, releases it and solves again with a kinetic friction drag of μ times that normal
-//!    impulse (Coulomb);
+//!    impulse (Coulomb); a node that slid starts the next step sliding against its last
+//!    friction impulse, and is held again once it has all but stopped (0.1 mm/s), so a
+//!    step is solved twice only when a hold gives way;
 //! 5. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!

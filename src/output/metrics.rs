@@ -102,6 +102,9 @@ pub struct Metrics {
     pub cg_iterations_mean: Option<f64>,
     /// Implicit runs: steps whose solve stopped at the iteration limit above its tolerance.
     pub cg_unconverged_steps: Option<u64>,
+    /// Implicit runs with friction in the solve: steps solved twice because a support's static
+    /// friction gave way.
+    pub cg_repeated_steps: Option<u64>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
     /// Creep check (scenes with `settle.creep_check_s`): how long the cloth was watched after
