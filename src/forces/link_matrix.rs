@@ -9,7 +9,8 @@
 //!
 //! Assembling L costs about one matrix-free product ([`super::ForceGenerator::add_stiffness_product`]),
 //! and each conjugate-gradient product afterwards is only block multiplications: no curve
-//! lookup, square root or branch per element. The pattern (which link pairs are coupled) is
+//! lookup, square root or branch per element (the solve sums L into particle rows once,
+//! [`super::ParticleMatrix`], which saves the link passes of each product). The pattern (which link pairs are coupled) is
 //! fixed by the topology: one coupling slot per bending spring, then one per trellis corner, in
 //! the order [`super::Trellising`] and [`super::Hysteresis`] visit them.
 
@@ -98,6 +99,16 @@ impl LinkMatrix {
         self.link.fill(DMat3::ZERO);
         self.particle.fill(0.0);
         self.coupling.fill(DMat3::ZERO);
+    }
+
+    /// How many coupling slots the pattern has.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The coupling block of `slot`: the term for (first link's row, second link's column).
+    pub fn coupling_block(&self, slot: usize) -> DMat3 {
+        self.coupling[slot]
     }
 
     /// The slot of bending spring `s` (an index into the topology's `bend_links`).

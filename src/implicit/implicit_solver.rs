@@ -7,7 +7,8 @@ use glam::{DMat3, DVec3};
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 use super::supports::Supports;
 use crate::forces::{
-    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation, outer,
+    ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
+    outer,
 };
 
 /// Conjugate-gradient settings of the implicit solve.
@@ -74,6 +75,10 @@ pub struct ImplicitSolver {
     scratch: [Vec<DVec3>; 4],
     /// h²·H + h·C of the current step, assembled once per solve.
     matrix: LinkMatrix,
+    /// The same matrix with h·C, in particle rows: what every product of the solve multiplies by.
+    rows: ParticleMatrix,
+    /// A product's result (scratch).
+    ax: Vec<DVec3>,
     /// Inverse of each node's 3×3 diagonal block of the filtered system (block Jacobi).
     preconditioner: Vec<DMat3>,
     perturbation: Perturbation,
@@ -155,6 +160,8 @@ impl ImplicitSolver {
             rhs: vec![DVec3::ZERO; n],
             scratch: std::array::from_fn(|_| vec![DVec3::ZERO; n]),
             matrix: LinkMatrix::new(&topology),
+            rows: ParticleMatrix::new(&topology, &LinkMatrix::new(&topology)),
+            ax: vec![DVec3::ZERO; n],
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: Supports::new(n),
@@ -278,7 +285,8 @@ impl ImplicitSolver {
                 self.fixed[i] = false;
             }
         }
-        let matrix = &*matrix;
+        self.rows.assemble(matrix);
+        let (rows, ax) = (&self.rows, &mut self.ax);
         // The error δv = A⁻¹·r has |r|_P² ≈ rᵀ·A⁻¹·r = δvᵀ·A·δv ≥ Σ m·|δv|², so a residual below
         // √(N·m)·ε leaves a mass-weighted RMS velocity error below about ε.
         let stop = Stop {
@@ -320,9 +328,8 @@ impl ImplicitSolver {
                 *b = *u - drag(i, *v);
             }
             if any_prescribed {
-                pert.set(topo, &self.prescribed);
-                let az = matrix.product(topo, pert, product);
-                for ((b, az), z) in self.rhs.iter_mut().zip(az).zip(&self.prescribed) {
+                rows.product(&self.prescribed, ax);
+                for ((b, az), z) in self.rhs.iter_mut().zip(ax.iter()).zip(&self.prescribed) {
                     *b -= m * *z + *az;
                 }
             }
@@ -349,10 +356,9 @@ impl ImplicitSolver {
             }
             let preconditioner = &self.preconditioner;
             let apply = |x: &[DVec3], out: &mut [DVec3]| {
-                pert.set(topo, x);
-                let ax = matrix.product(topo, pert, product);
-                for (i, ((o, ax), x)) in out.iter_mut().zip(ax).zip(x).enumerate() {
-                    *o = filter(i, m * *x + *ax + drag(i, *x));
+                rows.product(x, out);
+                for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
+                    *o = filter(i, m * *x + *o + drag(i, *x));
                 }
             };
             let precondition = |r: &[DVec3], z: &mut [DVec3]| {
@@ -377,8 +383,7 @@ impl ImplicitSolver {
                 self.pressed.fill(false);
                 break;
             }
-            pert.set(topo, &self.dv);
-            let ax = matrix.product(topo, pert, product);
+            rows.product(&self.dv, ax);
             // The last pass only judges the supports: a release there could not be solved.
             let may_release = pass + 1 < FRICTION_PASSES;
             let mut released = false;

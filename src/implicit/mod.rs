@@ -10,7 +10,8 @@
 //!    that [`crate::forces::ForceGenerator::add_stiffness_product`] multiplies by) and g the nodes'
 //!    gravity, so that the step's fixed point is the cloth's true equilibrium F + M·g = 0;
 //! 3. assembles h²·H and h·C (C the damping matrix of the dissipative effects) block by block
-//!    ([`crate::forces::LinkMatrix`]) and solves (M + h·C + h²·H)·Δv = b by conjugate gradients,
+//!    ([`crate::forces::LinkMatrix`], summed into particle rows for the products,
+//!    [`crate::forces::ParticleMatrix`]) and solves (M + h·C + h²·H)·Δv = b by conjugate gradients,
 //!    preconditioned by the inverse of each node's 3×3 diagonal block and warm-started from
 //!    the previous step's Δv, with the normal
 //!    component of Δv held at zero for nodes that a fixed surface pushed in Rapier's last step
