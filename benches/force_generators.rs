@@ -1,8 +1,9 @@
 //! Cost of one evaluation of all KES force generators on a 100 × 100 grid (10 000 particles),
 //! including the shared link-geometry pass. Criterion reports time per evaluation and, through
 //! the element throughput, particles per second; ns per particle = 1e9 / (elements/s).
-//! Target (issue 2): ≤ 60 ns per particle on one core. The last three entries time the implicit
-//! solve's per-step assembly and one CG product, assembled and matrix-free (issue 10).
+//! Target (issue 2): ≤ 60 ns per particle on one core. The last entries time the implicit
+//! solve's per-step assembly and one CG product: assembled in link space, summed into
+//! particle rows (what the solve multiplies by since session 11), and matrix-free (issue 10).
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -11,7 +12,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use kes_cloth::forces::{
     Bending, ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, Hysteresis, KesTensile,
-    LinkCompression, LinkDamping, LinkMatrix, Perturbation, SeedSeparation, Trellising,
+    LinkCompression, LinkDamping, LinkMatrix, ParticleMatrix, Perturbation, SeedSeparation, Trellising,
 };
 use kes_cloth::material::Fabric;
 
@@ -114,6 +115,14 @@ fn bench(c: &mut Criterion) {
             dx.set(&topo, black_box(&x));
             black_box(matrix.product(&topo, &dx, &mut f).len())
         })
+    });
+    let mut rows = ParticleMatrix::new(&topo, &matrix);
+    group.bench_function("implicit_rows_assembly", |b| {
+        b.iter(|| rows.assemble(black_box(&matrix)))
+    });
+    let mut out = vec![DVec3::ZERO; x.len()];
+    group.bench_function("implicit_product_particle_rows", |b| {
+        b.iter(|| rows.product(black_box(&x), &mut out))
     });
     group.bench_function("implicit_product_matrix_free", |b| {
         b.iter(|| {
