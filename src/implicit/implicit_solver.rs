@@ -25,7 +25,7 @@ pub struct ImplicitSettings {
     /// alone chases it: thick cotton at 5 mm and 1/240 s settled in 180 products a step, and
     /// in 105 with this floor, for the same DC to 1e-4 and a largest node speed at rest of
     /// 0.33 mm/s (0.16 mm/s without; 1.3 mm/s, above the settle limit, with a floor of 1e-5
-    /// m/s; `docs/accuracy.md` §2).
+    /// m/s; `docs/model.md` §12).
     pub velocity_tolerance: f64,
     /// Whether the solve applies the supports' Coulomb friction (see
     /// [`ImplicitSolver::apply_friction`]); `None` (default) for on when the cloth's
@@ -153,14 +153,15 @@ impl ImplicitSolver {
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
         let n = topology.particle_count;
+        let matrix = LinkMatrix::new(&topology);
         Self {
             settings,
             node_mass,
             dv: vec![DVec3::ZERO; n],
             rhs: vec![DVec3::ZERO; n],
             scratch: std::array::from_fn(|_| vec![DVec3::ZERO; n]),
-            matrix: LinkMatrix::new(&topology),
-            rows: ParticleMatrix::new(&topology, &LinkMatrix::new(&topology)),
+            rows: ParticleMatrix::new(&topology, &matrix),
+            matrix,
             ax: vec![DVec3::ZERO; n],
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
