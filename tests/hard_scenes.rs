@@ -10,6 +10,7 @@
 use bevy_ecs::prelude::*;
 use kes_cloth::forces::{Bending, ClothGeometry, ForceGenerator, LinkCompression, Trellising};
 use kes_cloth::material::STANDARD_GRAVITY;
+use kes_cloth::repeat::simulate_all;
 use kes_cloth::run::{RunOptions, simulate};
 use kes_cloth::scene::Scene;
 use kes_cloth::scene::spawn::spawn;
@@ -59,9 +60,13 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
         vec!["cloth.initial_shear_deg=-60".to_string()],
         0.10,
     )]);
-    for (path, sets, strain_bound) in runs {
-        let scene = Scene::load(common::crate_path(path), &sets).unwrap();
-        let m = simulate(&scene, &RunOptions::default()).metrics;
+    let (scenes, bounds): (Vec<Scene>, Vec<f64>) = runs
+        .map(|(path, sets, bound)| (Scene::load(common::crate_path(path), &sets).unwrap(), bound))
+        .unzip();
+    // Two runs at a time, one per core.
+    let outcomes = simulate_all(&scenes, 2, |_, _| {});
+    for ((scene, outcome), strain_bound) in scenes.iter().zip(outcomes).zip(bounds) {
+        let m = outcome.metrics;
         let name = &scene.spec.name;
         assert!(m.failure.is_none(), "{name}: {:?}", m.failure);
         for (what, v) in [

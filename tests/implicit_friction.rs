@@ -157,7 +157,7 @@ fn kes_drape(spacing: &str) -> kes_cloth::output::Metrics {
 fn kes_stretch_with_friction_in_the_solve_rests_without_jitter() {
     // The criterion: no node faster than 1 mm/s once settled, measured as the largest
     // distance a node moved over the last step divided by the step; and the shipped scenes'
-    // creep bound, no node moving 0.5 mm over the 5 s (tests/settle_acceptance.rs). Measured
+    // creep bound, no node moving 0.5 mm over the 5 s (tests/shipped_scenes.rs). Measured
     // at 1 cm: 0.00 mm/s at the end, creep 0.04 mm. (At 5 mm, outside the suite's time:
     // 0.00 mm/s, creep 0.01 mm.)
     let m = kes_drape("cloth.spacing_m=0.01");

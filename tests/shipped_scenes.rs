@@ -1,8 +1,21 @@
 //! Every shipped scene loads, runs to rest with finite values, and drapes as a cloth should:
 //! resting on its disk or table and hanging around it, links nearly inextensible, no node
 //! inside a collider, outputs written.
+//!
+//! A drape that settles: on the shipped drapemeter and Cusick scenes, both fabrics, the cloth
+//! comes to rest within 5 s of simulated time and then stays put: 5 more simulated seconds move
+//! no node more than 0.5 mm and the cloth's centroid less than 0.5 mm (no creep, no slide-off);
+//! and at no step does a node centre sit more than 0.5 mm inside the disk or the floor. At the
+//! end, no node moves faster than 1 mm/s over a step (measured from positions: Rapier's stored
+//! velocity of a node resting on the rim reads 5–26 mm/s while the node stays put).
+//! These are the acceptance bounds of the settling issue; they are not loosened here.
+//!
+//! The four drapes run once, with the 5 s watch after settling, and serve both claims.
 
-use kes_cloth::run::{RunOptions, simulate, write_outputs};
+use std::sync::OnceLock;
+
+use kes_cloth::repeat::simulate_all;
+use kes_cloth::run::{RunOptions, RunOutcome, simulate, write_outputs};
 use kes_cloth::scene::{Scene, describe};
 
 mod common;
@@ -39,7 +52,12 @@ fn every_shipped_scene_is_listed_and_loads() {
 /// for stretch as a constraint (the table corners, where four flaps meet, come closest).
 fn run_and_check(name: &str, max_strain: f64) {
     let scene = Scene::load(common::crate_path(&format!("scenes/{name}.ron")), &[]).unwrap();
-    let outcome = simulate(&scene, &RunOptions::default());
+    check(&scene, &simulate(&scene, &RunOptions::default()), max_strain);
+}
+
+/// The shipped-scene checks on a run of `scene`.
+fn check(scene: &Scene, outcome: &RunOutcome, max_strain: f64) {
+    let name = &scene.spec.name;
     let m = &outcome.metrics;
     assert!(m.failure.is_none(), "{name}: {:?}", m.failure);
     assert!(m.settled, "{name}: did not settle in {} s", m.sim_time_s);
@@ -78,7 +96,7 @@ fn run_and_check(name: &str, max_strain: f64) {
     );
 
     let dir = std::env::temp_dir().join(format!("kes-cloth-test-{name}"));
-    write_outputs(&scene, &outcome, &dir).unwrap();
+    write_outputs(scene, outcome, &dir).unwrap();
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
     for key in [
@@ -107,22 +125,26 @@ fn run_and_check(name: &str, max_strain: f64) {
 
 #[test]
 fn drape_wool_settles_on_the_disk() {
-    run_and_check("drape_wool", 0.03);
+    let (scene, outcome) = settled_drape("drape_wool");
+    check(scene, outcome, 0.03);
 }
 
 #[test]
 fn drape_cotton_settles_on_the_disk() {
-    run_and_check("drape_cotton", 0.03);
+    let (scene, outcome) = settled_drape("drape_cotton");
+    check(scene, outcome, 0.03);
 }
 
 #[test]
 fn cusick_wool_settles_on_the_disk() {
-    run_and_check("cusick_wool", 0.03);
+    let (scene, outcome) = settled_drape("cusick_wool");
+    check(scene, outcome, 0.03);
 }
 
 #[test]
 fn cusick_cotton_settles_on_the_disk() {
-    run_and_check("cusick_cotton", 0.03);
+    let (scene, outcome) = settled_drape("cusick_cotton");
+    check(scene, outcome, 0.03);
 }
 
 #[test]
@@ -133,4 +155,66 @@ fn tablecloth_wool_settles_on_the_table() {
 #[test]
 fn tablecloth_cotton_settles_on_the_table() {
     run_and_check("tablecloth_cotton", 0.03);
+}
+
+/// The drapemeter and Cusick scenes, watched for 5 s after they settle.
+const DRAPES: [&str; 4] = ["drape_cotton", "drape_wool", "cusick_cotton", "cusick_wool"];
+
+/// Scene `name` of [`DRAPES`] and its run with the 5 s watch, run once (two at a time) for every
+/// test of this file.
+fn settled_drape(name: &str) -> &'static (Scene, RunOutcome) {
+    static RUNS: OnceLock<Vec<(Scene, RunOutcome)>> = OnceLock::new();
+    let runs = RUNS.get_or_init(|| {
+        let sets = [
+            "integration.settle.creep_check_s=5".to_string(),
+            "integration.max_time_s=11".to_string(),
+        ];
+        let scenes: Vec<Scene> = DRAPES
+            .iter()
+            .map(|n| Scene::load(common::crate_path(&format!("scenes/{n}.ron")), &sets).unwrap())
+            .collect();
+        let outcomes = simulate_all(&scenes, 2, |_, _| {});
+        scenes.into_iter().zip(outcomes).collect()
+    });
+    &runs[DRAPES.iter().position(|n| *n == name).unwrap()]
+}
+
+/// Largest node displacement and centroid displacement allowed over the creep check (m).
+const CREEP_BOUND: f64 = 0.5e-3;
+/// Deepest a node centre may sit inside a collider at the end of any step (m).
+const PENETRATION_BOUND: f64 = 0.5e-3;
+/// Fastest a node may move over the last step once settled (m/s): "no jitter", the implicit
+/// integrator issue's bound. Measured on these scenes in session 9: 0.11–0.15 mm/s.
+const JITTER_BOUND: f64 = 1e-3;
+
+#[test]
+fn drapes_settle_within_five_seconds_and_do_not_creep() {
+    for name in DRAPES {
+        let m = &settled_drape(name).1.metrics;
+        let settle = m.settle_time_s.unwrap_or(f64::INFINITY);
+        // `settle_time_s` opens the quiet window; the window (0.5 s) must also end within 5 s.
+        assert!(m.settled && settle + 0.5 <= 5.0, "{name}: settled at {settle} s");
+        let window = m.creep_window_s.unwrap_or(0.0);
+        assert!(
+            (window - 5.0).abs() < 1e-6,
+            "{name}: watched {window} s after settling, not 5 s"
+        );
+        assert!(
+            m.peak_penetration_m <= PENETRATION_BOUND,
+            "{name}: a node sat {:.3} mm inside a collider at the worst step",
+            m.peak_penetration_m * 1e3
+        );
+        let (node, centroid) = (m.creep_max_node_m.unwrap(), m.creep_centroid_m.unwrap());
+        assert!(
+            node <= CREEP_BOUND && centroid <= CREEP_BOUND,
+            "{name}: over 5 s after settling a node moved {:.3} mm, the centroid {:.3} mm",
+            node * 1e3,
+            centroid * 1e3
+        );
+        assert!(
+            m.max_step_speed_m_per_s < JITTER_BOUND,
+            "{name}: a node moved {:.2} mm/s over the last step, 5 s after settling",
+            m.max_step_speed_m_per_s * 1e3
+        );
+    }
 }
