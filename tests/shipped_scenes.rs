@@ -156,19 +156,29 @@ fn tablecloth_cotton_settles_on_the_table() {
     check(scene, outcome, 0.03);
 }
 
-/// The tablecloth scenes, run once (two at a time) for every test of this file.
+/// The tablecloth scenes, run once for every test of this file.
 fn tablecloth(name: &str) -> &'static (Scene, RunOutcome) {
-    const NAMES: [&str; 2] = ["tablecloth_cotton", "tablecloth_wool"];
     static RUNS: OnceLock<Vec<(Scene, RunOutcome)>> = OnceLock::new();
-    let runs = RUNS.get_or_init(|| {
-        let scenes: Vec<Scene> = NAMES
+    run_once(&RUNS, &["tablecloth_cotton", "tablecloth_wool"], &[], name)
+}
+
+/// Scene `name` of `names`, each loaded with `sets` and all run (two at a time) into `cell` the
+/// first time any test asks, and its run.
+fn run_once(
+    cell: &'static OnceLock<Vec<(Scene, RunOutcome)>>,
+    names: &[&str],
+    sets: &[String],
+    name: &str,
+) -> &'static (Scene, RunOutcome) {
+    let runs = cell.get_or_init(|| {
+        let scenes: Vec<Scene> = names
             .iter()
-            .map(|n| Scene::load(common::crate_path(&format!("scenes/{n}.ron")), &[]).unwrap())
+            .map(|n| Scene::load(common::crate_path(&format!("scenes/{n}.ron")), sets).unwrap())
             .collect();
         let outcomes = simulate_all(&scenes, 2, |_, _| {});
         scenes.into_iter().zip(outcomes).collect()
     });
-    &runs[NAMES.iter().position(|n| *n == name).unwrap()]
+    &runs[names.iter().position(|n| *n == name).unwrap()]
 }
 
 /// On the tablecloth, thick cotton's skirt forms fewer folds than thin wool's, and wool's
@@ -196,23 +206,15 @@ fn cotton_tablecloth_skirt_has_fewer_folds_than_wool() {
 /// The drapemeter and Cusick scenes, watched for 5 s after they settle.
 const DRAPES: [&str; 4] = ["drape_cotton", "drape_wool", "cusick_cotton", "cusick_wool"];
 
-/// Scene `name` of [`DRAPES`] and its run with the 5 s watch, run once (two at a time) for every
-/// test of this file.
+/// Scene `name` of [`DRAPES`] and its run with the 5 s watch, run once for every test of this
+/// file.
 fn settled_drape(name: &str) -> &'static (Scene, RunOutcome) {
     static RUNS: OnceLock<Vec<(Scene, RunOutcome)>> = OnceLock::new();
-    let runs = RUNS.get_or_init(|| {
-        let sets = [
-            "integration.settle.creep_check_s=5".to_string(),
-            "integration.max_time_s=11".to_string(),
-        ];
-        let scenes: Vec<Scene> = DRAPES
-            .iter()
-            .map(|n| Scene::load(common::crate_path(&format!("scenes/{n}.ron")), &sets).unwrap())
-            .collect();
-        let outcomes = simulate_all(&scenes, 2, |_, _| {});
-        scenes.into_iter().zip(outcomes).collect()
-    });
-    &runs[DRAPES.iter().position(|n| *n == name).unwrap()]
+    let sets = [
+        "integration.settle.creep_check_s=5".to_string(),
+        "integration.max_time_s=11".to_string(),
+    ];
+    run_once(&RUNS, &DRAPES, &sets, name)
 }
 
 /// Largest node displacement and centroid displacement allowed over the creep check (m).
