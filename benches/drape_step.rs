@@ -27,8 +27,7 @@ const SETTLE_STEPS: usize = 240;
 
 /// The drape scene at about `nodes` nodes. The explicit step limits of bending and of the link
 /// compression spring scale as σ² (the spring's is 0.139 ms at 1 cm for thick cotton), so the
-/// step is 0.125 ms·(σ/1 cm)², inside the stability guard at every size (0.25 ms·(σ/1 cm)²
-/// before session 5, when the spring was sized from the step); the sample starts 0.55σ above the
+/// step is 0.125 ms·(σ/1 cm)², inside the stability guard at every size; the sample starts 0.55σ above the
 /// disk, within Rapier's 5 mm prediction distance, so its contacts are built and solved from the
 /// first step (the 240 warm-up steps are too short for it to land at these steps).
 fn scene(nodes: usize) -> Scene {

@@ -1,9 +1,9 @@
 //! Cost of one evaluation of all KES force generators on a 100 × 100 grid (10 000 particles),
 //! including the shared link-geometry pass. Criterion reports time per evaluation and, through
 //! the element throughput, particles per second; ns per particle = 1e9 / (elements/s).
-//! Target (issue 2): ≤ 60 ns per particle on one core. The last entries time the implicit
+//! Target: ≤ 60 ns per particle on one core. The last entries time the implicit
 //! solve's per-step assembly and one CG product: assembled in link space, summed into
-//! particle rows (what the solve multiplies by since session 11), and matrix-free (issue 10).
+//! particle rows (what the solve multiplies by), and matrix-free.
 
 use std::hint::black_box;
 use std::sync::Arc;

@@ -18,10 +18,10 @@
 //!
 //! ```text
 //!  scenes/*.ron ──► scene::Scene ──► embed::ClothBuilder ──► Rapier bodies + joints (bodies)
-//!                                                   └──► cloth entity with Effect<G> components
-//!  each step (schedule::Phase): prepare ─► forces (one system per effect) ─► Rapier step
+//!                                                   └──► cloth entity with its ClothEffects
+//!  each step (schedule::Phase): prepare ─► forces (each effect the cloth carries) ─► Rapier step
 //!                               ─► measure (motion, settle, finite guard) ─► output (progress)
-//!  at rest: measure::measure_drape ─► output (metrics.json, final.obj, top.png)
+//!  at rest: the scene's declared `measure` (drape, tablecloth) ─► output (metrics.json, ...)
 //! ```
 //!
 //! ## Three ways in

@@ -145,7 +145,7 @@ fn drape_coefficient_rises_with_bending_length() {
 /// Seed 0 of each fabric turned by 45° and 90° (four runs, two at a time), each against the
 /// unturned run of seed 0: |ΔDC| < 0.001 and the same node count. Turning rotates the lattice,
 /// the warp and the seeded perturbation together about the disk's axis, so the runs differ only
-/// by rounding in a rotated frame (measured ~1e-5, session 11); 0.001 leaves room for that
+/// by rounding in a rotated frame (measured ~1e-5); 0.001 leaves room for that
 /// rounding to pick a contact a step earlier, and is a tenth of the seed-to-seed spread of DC.
 /// Being exact up to rounding, one seed compared run for run is a stronger check than means over
 /// several seeds would be.

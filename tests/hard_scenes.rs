@@ -4,37 +4,36 @@
 //! stiffest fabric folded flat onto itself (θ → 12° at the fold, self-collision), and a 2 g and
 //! a 10 g ball thrown at 10 m/s into a hanging cloth. Each run must end without a failure, with every value
 //! finite, no node centre more than 3 mm inside a collider at the end of any step (the node
-//! balls are 1–10 mm in radius; measured worst 0–2.4 mm in session 8), link strain within a stated bound at every step, and the
+//! balls are 1–10 mm in radius; measured worst 0–2.4 mm), link strain within a stated bound at every step, and the
 //! cloth at rest (settle window met, kinetic energy decayed below 1e-5 J).
 
 use bevy_ecs::prelude::*;
-use kes_cloth::forces::{Bending, ClothGeometry, ForceGenerator, LinkCompression, Trellising};
+use kes_cloth::forces::ClothGeometry;
 use kes_cloth::material::STANDARD_GRAVITY;
 use kes_cloth::repeat::simulate_all;
 use kes_cloth::run::{RunOptions, simulate};
 use kes_cloth::scene::Scene;
 use kes_cloth::scene::spawn::spawn;
-use kes_cloth::schedule::{ClothState, Effect, Failure, build_step_schedule};
+use kes_cloth::schedule::{ClothEffects, ClothState, Failure, build_step_schedule};
 
 mod common;
 
 /// (scene, bound on the peak link strain over the run, with the measured value).
 const CASES: [(&str, f64); 8] = [
-    // Impact at 4.4 m/s: measured peak 20.2 % (session 8; 18.9 % in session 3).
+    // Impact at 4.4 m/s: measured peak 20.2 %.
     ("scenes/hard/rim_drop.ron", 0.25),
-    // Ten times the load on every joint: measured peak 3.2 %, 1.4 % at rest (session 8; 13.3 % and
-    // 5.6 % before the velocity-kick hand-over of session 6).
+    // Ten times the load on every joint: measured peak 3.2 %, 1.4 % at rest.
     ("scenes/hard/ten_g_drape.ron", 0.20),
-    // Measured peak 1.4 % (session 8; 3.8 % in session 3).
+    // Measured peak 1.4 %.
     ("scenes/hard/stiff_coarse.ron", 0.10),
-    // Measured peak 1.0 % (session 8; 5.7 % in session 3).
+    // Measured peak 1.0 %.
     ("scenes/hard/thin_fine.ron", 0.10),
     // Released from 60° of shear (KES stretch, implicit): measured peak 6.4 %.
     ("scenes/hard/sheared_release.ron", 0.10),
-    // Folded flat onto itself, springing open on the floor: measured peak 1.8 % (3.7 % in session 3).
+    // Folded flat onto itself, springing open on the floor: measured peak 1.8 %.
     ("scenes/hard/folded.ron", 0.10),
     // A 2 g ball at 10 m/s into a hanging cloth: measured peak 18.2 % at the impact, 0.24 % at
-    // rest (session 8; 33 % before session 6).
+    // rest.
     ("scenes/hard/ball_impact.ron", 0.45),
     // A 10 g ball into the same cloth, KES stretch implicit: measured peak 10.7 %, 1.4 mm deep.
     ("scenes/hard/heavy_ball_impact.ron", 0.15),
@@ -78,7 +77,7 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
         ] {
             assert!(v.is_finite(), "{name}: {what} is {v}");
         }
-        // At the end of every step, not only the last (measured worst in session 8: 2.4 mm, the
+        // At the end of every step, not only the last (measured worst: 2.4 mm, the
         // 2 g ball's impact and the stiff coarse drape; 1.4 mm for the 10 g ball; node balls are
         // 5–10 mm in radius).
         assert!(
@@ -135,15 +134,12 @@ fn total_energy(world: &World, cloth: Entity, node_mass: f64) -> f64 {
         .zip(&state.velocities)
         .map(|(x, v)| node_mass * (0.5 * v.length_squared() + STANDARD_GRAVITY * x.y))
         .sum();
-    let elastic = world
-        .get::<Effect<Bending>>(cloth)
-        .map_or(0.0, |e| e.0.energy(&geometry))
-        + world
-            .get::<Effect<Trellising>>(cloth)
-            .map_or(0.0, |e| e.0.energy(&geometry))
-        + world
-            .get::<Effect<LinkCompression>>(cloth)
-            .map_or(0.0, |e| e.0.energy(&geometry));
+    let effects = &world.get::<ClothEffects>(cloth).unwrap().0;
+    let elastic: f64 = ["bending", "trellising", "compression"]
+        .iter()
+        .filter_map(|name| effects.get(name))
+        .map(|e| e.energy(&geometry))
+        .sum();
     motion + elastic
 }
 

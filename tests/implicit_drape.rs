@@ -1,12 +1,12 @@
 //! The implicit integrator drapes thick cotton, with its full measured B and G, at the step
 //! contact needs (1/240 s), where the explicit integrator diverges.
 //!
-//! Measured (seed 0, session 7, sharp rim, gravity in the solve, supports from Rapier's contact
+//! Measured (seed 0, sharp rim, gravity in the solve, supports from Rapier's contact
 //! impulses): explicit at 0.125 ms DC 0.738 with 4 nodes; implicit at 1/240 s DC 0.702 with 4
 //! nodes, settled at 0.6 s simulated, link strain 1.6 %, fastest node at the end 2.3 mm/s, CG 40
 //! iterations a step on average (on the rim rounded by 5 mm: 0.678 and 0.696). The DC
 //! tolerance here, 0.05, is the spread of the implicit result over steps from 0.5 to 4.2 ms
-//! (0.652–0.703); the issue's own target, 0.02, is reported in the issue note, not asserted.
+//! (0.652–0.703); a 0.02 agreement is not reached at every step and is not asserted.
 
 use kes_cloth::output::Metrics;
 use kes_cloth::run::{RunOptions, simulate};
@@ -82,13 +82,13 @@ fn implicit_cotton_settles_at_the_contact_step_near_the_explicit_reference() {
 }
 
 /// With the KES tensile law in the solve (no rope joints), thick cotton at 1 cm and 1/240 s
-/// drapes within the implicit integrator issue's 0.02 of the explicit reference, with its node
+/// drapes within 0.02 of the explicit reference, with its node
 /// count. Regression (supports flickering at the rim, 59 CG products a step, settled only at
 /// 5.2 s, DC 0.725): a node kept off the disk by the filter was released when Rapier's contact
 /// stopped pushing it, pulled back by the cloth, and held again, every other step. Supports now
 /// stay while the node touches and the surface pushed in the last solve. Measured: DC 0.746
 /// against 0.738, 4 nodes, 11 products a step, settled at 1.6 s; 30 products is half the flicker.
-/// Friction in the solve (session 10, `tests/implicit_friction.rs`) is off here: this test is
+/// Friction in the solve (`tests/implicit_friction.rs`) is off here: this test is
 /// about the supports alone, and friction's extra solve per step would hide the flicker's cost.
 #[test]
 fn implicit_cotton_with_kes_stretch_keeps_its_supports() {

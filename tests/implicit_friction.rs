@@ -9,8 +9,8 @@
 //!    acceleration once it is outside. Rapier's contact alone sees only the weight: without
 //!    friction in the solve, the pressed sheet slides.
 //! 2. On the drapemeter, thick cotton with the KES tensile law at the contact step comes to rest
-//!    without the jitter it had while the solve let supported nodes slide freely (7–18 mm/s
-//!    at 1 cm, 29–39 mm/s at 5 mm over single steps, session 9).
+//!    without jitter; a solve that lets supported nodes slide freely jitters at 7–18 mm/s at
+//!    1 cm and 29–39 mm/s at 5 mm over single steps.
 
 use std::sync::Arc;
 
@@ -126,8 +126,8 @@ fn a_sheet_outside_its_friction_cone_slides_at_coulombs_rate() {
         "left the slope's line: {v:?}"
     );
     // A node that slid keeps sliding into the next step: only the holds that give way at the
-    // start are solved twice (a step or two), not every step of the slide (240 before
-    // session 11).
+    // start are solved twice (a step or two), not every step of the slide (240 of 240 if a
+    // sliding node were held again at every step's start).
     assert!(
         stats.repeated <= 3,
         "{} of 240 steps solved twice",
@@ -155,7 +155,7 @@ fn kes_drape(spacing: &str) -> kes_cloth::output::Metrics {
 
 #[test]
 fn kes_stretch_with_friction_in_the_solve_rests_without_jitter() {
-    // The criterion: no node faster than 1 mm/s once settled, measured as the largest
+    // The criterion of rest: no node faster than 1 mm/s once settled, measured as the largest
     // distance a node moved over the last step divided by the step; and the shipped scenes'
     // creep bound, no node moving 0.5 mm over the 5 s (tests/shipped_scenes.rs). Measured
     // at 1 cm: 0.00 mm/s at the end, creep 0.04 mm. (At 5 mm, outside the suite's time:

@@ -3,7 +3,7 @@
 //!
 //! Claims:
 //! 1. For every shipped fabric, at two node spacings (5 and 2.5 mm), the simulated KES-FB2 and KES-FB1 tests
-//!    read B and G within 3 % and 2HB, 2HG, 2HG5 within 10 % of the file (the bounds). The
+//!    read B and G within 3 % and 2HB, 2HG, 2HG5 within 10 % of the file (the virtual laboratory's promised bounds). The
 //!    strips use the same force generators as a scene, so this checks the bending curvature of
 //!    three crossings, the trellis weights, the friction elements and the unit conversions together.
 //! 2. Without the hysteresis effect there is no loop: widths vanish and the elastic forces do no

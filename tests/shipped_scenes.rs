@@ -8,7 +8,7 @@
 //! and at no step does a node centre sit more than 0.5 mm inside the disk or the floor. At the
 //! end, no node moves faster than 1 mm/s over a step (measured from positions: Rapier's stored
 //! velocity of a node resting on the rim reads 5–26 mm/s while the node stays put).
-//! These are the acceptance bounds of the settling issue; they are not loosened here.
+//! These are the bounds kes-cloth promises for a settled cloth; they are not loosened here.
 //!
 //! The four drapes run once, with the 5 s watch after settling, and serve both claims; the two
 //! tablecloths run once for their checks and for the seed's claim on the table (cotton's skirt
@@ -222,7 +222,7 @@ const CREEP_BOUND: f64 = 0.5e-3;
 /// Deepest a node centre may sit inside a collider at the end of any step (m).
 const PENETRATION_BOUND: f64 = 0.5e-3;
 /// Fastest a node may move over the last step once settled (m/s): "no jitter", the implicit
-/// integrator issue's bound. Measured on these scenes in session 9: 0.11–0.15 mm/s.
+/// bound kes-cloth promises for a cloth at rest; these scenes measure 0.11–0.15 mm/s.
 const JITTER_BOUND: f64 = 1e-3;
 
 #[test]

@@ -24,7 +24,7 @@ use kes_cloth::forces::{
     LinkCompression, LinkDamping, LinkMatrix, Perturbation, SeedSeparation, Trellising,
 };
 use kes_cloth::material::Fabric;
-use nalgebra::DMatrix;
+use rapier3d::na::DMatrix;
 
 mod common;
 

@@ -15,8 +15,8 @@ fn step_plan(steps: &str, placements: usize) -> StudyPlan {
     }
 }
 
-/// `drape_wool` as it shipped before session 6 (1 cm, 0.25 ms), which these studies were sized
-/// for, and a short run of `max_time_s` seconds.
+/// `drape_wool` at 1 cm and 0.25 ms, a coarse setting these studies are sized for, and a short
+/// run of `max_time_s` seconds.
 fn wool_at_1cm(max_time_s: f64) -> Vec<String> {
     vec![
         "cloth.spacing_m=0.01".to_string(),

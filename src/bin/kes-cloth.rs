@@ -22,7 +22,7 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.0002,0.0001   accuracy vs time\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.0002,0.0001   accuracy vs time\n  kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005   DC at zero spacing, with its uncertainty\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -124,6 +124,44 @@ enum Command {
         /// where the grid falls alone (docs/accuracy.md §1a).
         #[arg(long, value_name = "N", default_value_t = 1)]
         placements: usize,
+    },
+    /// How far a result is from the fabric's own answer: run a scene at three or more node
+    /// spacings, fit the observed order of convergence, and extrapolate its drape coefficient
+    /// (or tablecloth corner hang) to zero spacing with a numerical uncertainty.
+    ///
+    /// Each spacing σ runs at the step dt·(σ/σ₀)^q (σ₀, dt the scene's; q from --step-exponent,
+    /// default 2 for explicit scenes, whose stability limits shrink as σ², 0 for implicit ones).
+    /// Richardson extrapolation on the finest three spacings gives the value at σ → 0; its
+    /// uncertainty is Roache's grid convergence index (safety factor 1.25 when the order lies in
+    /// [0.5, 4], else 3 times the largest change between neighbouring spacings: those spacings
+    /// are not yet in the asymptotic range). Writes `convergence.csv`, `convergence.md` and
+    /// `convergence.png` (the quantity against σ, the fitted law, the band at σ → 0) into DIR
+    /// (default `out/<scene name>-convergence/`).
+    ///
+    /// Example: kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005
+    ///   --placements 4
+    Converge {
+        /// The scene file (RON).
+        scene: PathBuf,
+        /// Node spacings (m), at least three, comma-separated.
+        #[arg(long, value_name = "S1,S2,S3,...", value_delimiter = ',', required = true)]
+        spacings: Vec<f64>,
+        /// q in dt ∝ σ^q [default: 2 explicit, 0 implicit].
+        #[arg(long, value_name = "Q")]
+        step_exponent: Option<f64>,
+        /// Runs per spacing, run k with seed k and the k-th lattice placement (circular cloths):
+        /// where the lattice meets the rim scatters a single run's DC.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        placements: usize,
+        /// An override applied to every run. Repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output folder [default: out/<scene name>-convergence].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Runs at a time [default: all cores].
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
     },
     /// The virtual KES laboratory: simulate a KES-FB2 bending test and a KES-FB1 shear test on a
     /// strip of a fabric, with the same force generators as every scene, and read B, 2HB, G, 2HG
@@ -241,6 +279,22 @@ fn main() -> ExitCode {
                 placements,
             };
             run_study(&scene, plan, &set, out, threads)
+        }
+        Command::Converge {
+            scene,
+            spacings,
+            step_exponent,
+            placements,
+            set,
+            out,
+            threads,
+        } => {
+            let plan = kes_cloth::study::ConvergencePlan {
+                spacings,
+                step_exponent,
+                placements,
+            };
+            run_convergence(&scene, &plan, &set, out, threads)
         }
         Command::Kes {
             fabric,
@@ -388,12 +442,7 @@ fn run_study(
     threads: Option<usize>,
 ) -> ExitCode {
     let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
-    let runs = (plan.settings().len() + 1) * plan.placements.max(1);
-    let bar = indicatif::ProgressBar::new(runs as u64).with_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} runs, {elapsed} elapsed")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_message("study");
+    let bar = batch_bar("study", (plan.settings().len() + 1) * plan.placements.max(1));
     let study = kes_cloth::study::run_study(scene, set, &plan, threads, |done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
@@ -404,15 +453,55 @@ fn run_study(
         Err(e) => return fail(&e),
     };
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-study", study.scene)));
-    if let Err(e) = kes_cloth::study::write_study(&study, &dir) {
-        return fail(&e);
+    match kes_cloth::study::write_study(&study, &dir) {
+        Ok(()) => print_report(&dir, "study.md"),
+        Err(e) => fail(&e),
     }
-    match std::fs::read_to_string(dir.join("study.md")) {
+}
+
+/// A progress bar over `runs` runs of a batch (study, convergence).
+fn batch_bar(label: &'static str, runs: usize) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(runs as u64).with_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} runs, {elapsed} elapsed")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message(label);
+    bar
+}
+
+/// Prints the Markdown report `file` a batch wrote into `dir`, and where it wrote.
+fn print_report(dir: &std::path::Path, file: &str) -> ExitCode {
+    match std::fs::read_to_string(dir.join(file)) {
         Ok(table) => println!("{table}"),
-        Err(e) => return fail(&e),
+        Err(e) => return fail(&format!("{}: {e}", dir.join(file).display())),
     }
     println!("wrote {}", dir.display());
     ExitCode::SUCCESS
+}
+
+fn run_convergence(
+    scene: &std::path::Path,
+    plan: &kes_cloth::study::ConvergencePlan,
+    set: &[String],
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> ExitCode {
+    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
+    let bar = batch_bar("converge", plan.spacings.len() * plan.placements.max(1));
+    let result = kes_cloth::study::run_convergence(scene, set, plan, threads, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let convergence = match result {
+        Ok(c) => c,
+        Err(e) => return fail(&e),
+    };
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-convergence", convergence.scene)));
+    match kes_cloth::study::write_convergence(&convergence, &dir) {
+        Ok(()) => print_report(&dir, "convergence.md"),
+        Err(e) => fail(&e),
+    }
 }
 
 fn run_kes_lab(

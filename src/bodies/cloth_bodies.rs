@@ -193,7 +193,7 @@ impl ClothBodies {
     /// node mass), applied before the step, so that Rapier's substeps integrate positions with
     /// the whole kick (symplectic Euler at any substep count; a user force held over n substeps
     /// is not: `docs/rapier.md`). Call it once, right before `world.step()`. Any user force left
-    /// on a node (e.g. by a checkpoint written before session 6) is cleared.
+    /// on a node is cleared.
     pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
         let dt = world.integration_parameters.dt as f64;
         for (h, f) in self.handles.iter().zip(forces) {

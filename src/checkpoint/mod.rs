@@ -7,8 +7,9 @@
 //! Rapier's world as Rapier serialises it (bodies, colliders, joints, contact manifolds with their
 //! warm-start impulses, islands; the pipelines are workspaces Rapier rebuilds), and every piece of
 //! kes-cloth state that carries from one step to the next: the clock, the node state, the
-//! hysteresis slips, the implicit solve's warm start and totals, the settle tracker, the creep
-//! watch, the motion statistics and the per-effect call counts. It is written as CBOR (exact for every f32 and f64,
+//! effects' own state (hysteresis slips), the implicit solve's warm start, release-rule and
+//! friction memory and totals, the settle tracker, the creep watch, the motion statistics and
+//! the per-effect call counts. It is written as CBOR (exact for every f32 and f64,
 //! NaN included) to a temporary file and renamed over `checkpoint.cbor`, so a run killed while
 //! writing keeps the previous checkpoint.
 
@@ -23,17 +24,30 @@ use serde::{Deserialize, Serialize};
 
 pub use checkpoint_error::CheckpointError;
 
-use crate::forces::{FrictionState, Hysteresis};
+use crate::forces::EffectStates;
 use crate::implicit::ImplicitStats;
 use crate::measure::{CreepWatch, Motion, MovingColliders, SettleState, WorldColliders};
 use crate::scene::{Scene, SceneFile};
-use crate::schedule::{Clock, ClothState, Effect, EffectLedger, Implicit, Physics};
+use crate::schedule::{Clock, ClothEffects, ClothState, EffectLedger, Implicit, Physics};
 
 /// The file a checkpoint is written to, inside a run's output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.cbor";
 
 /// Format version; a checkpoint of another version is refused.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
+
+/// The implicit solve's state that carries from step to step.
+#[derive(Serialize, Deserialize)]
+struct ImplicitState {
+    /// Last step's velocity change per node (m/s): the next solve's warm start.
+    warm_start: Vec<DVec3>,
+    /// Running totals of the solves.
+    stats: ImplicitStats,
+    /// Per node: the support pushed in the last solve (the release rule's memory).
+    pressed: Vec<bool>,
+    /// Per node: the last friction impulse of a sliding node (N·s; 0 where not sliding).
+    sliding: Vec<f64>,
+}
 
 /// Everything needed to continue a run.
 #[derive(Serialize, Deserialize)]
@@ -54,14 +68,8 @@ pub struct Snapshot {
     physics: PhysicsWorld,
     positions: Vec<DVec3>,
     velocities: Vec<DVec3>,
-    friction: Option<FrictionState>,
-    implicit: Option<(Vec<DVec3>, ImplicitStats)>,
-    /// The implicit solve's pushed supports (since session 9; older checkpoints have none).
-    #[serde(default)]
-    implicit_pressed: Option<Vec<bool>>,
-    /// The implicit solve's sliding nodes' friction impulses (since session 11).
-    #[serde(default)]
-    implicit_sliding: Option<Vec<f64>>,
+    effects: EffectStates,
+    implicit: Option<ImplicitState>,
     settle: SettleState,
     motion: Motion,
     effect_calls: Vec<(String, u64, f64)>,
@@ -93,16 +101,16 @@ impl Snapshot {
             physics: clone_physics(&world.resource::<Physics>().0)?,
             positions: state.positions.clone(),
             velocities: state.velocities.clone(),
-            friction: world
-                .get::<Effect<Hysteresis>>(cloth)
-                .map(|h| h.0.friction_state()),
-            implicit: world
-                .get::<Implicit>(cloth)
-                .map(|i| (i.0.warm_start().to_vec(), i.0.stats)),
-            implicit_pressed: world.get::<Implicit>(cloth).map(|i| i.0.pressed().to_vec()),
-            implicit_sliding: world
-                .get::<Implicit>(cloth)
-                .map(|i| i.0.sliding_impulses().to_vec()),
+            effects: world
+                .get::<ClothEffects>(cloth)
+                .map(|e| e.0.states())
+                .unwrap_or_default(),
+            implicit: world.get::<Implicit>(cloth).map(|i| ImplicitState {
+                warm_start: i.0.warm_start().to_vec(),
+                stats: i.0.stats,
+                pressed: i.0.pressed().to_vec(),
+                sliding: i.0.sliding_impulses().to_vec(),
+            }),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
             effect_calls: ledger
@@ -134,25 +142,18 @@ impl Snapshot {
             state.positions = self.positions;
             state.velocities = self.velocities;
         }
-        let restored = match (world.get_mut::<Effect<Hysteresis>>(cloth), &self.friction) {
-            (Some(mut h), Some(f)) => h.0.restore_friction_state(f),
-            (h, f) => h.is_none() && f.is_none(),
-        };
+        let restored = world
+            .get_mut::<ClothEffects>(cloth)
+            .is_some_and(|mut e| e.0.restore_states(&self.effects));
         if !restored {
-            return Err(mismatch("hysteresis state"));
+            return Err(mismatch("effect state (hysteresis)"));
         }
         let restored = match (world.get_mut::<Implicit>(cloth), &self.implicit) {
-            (Some(mut i), Some((dv, stats))) => {
-                i.0.stats = *stats;
-                let pressed = self
-                    .implicit_pressed
-                    .as_ref()
-                    .is_none_or(|p| i.0.restore_pressed(p));
-                let sliding = self
-                    .implicit_sliding
-                    .as_ref()
-                    .is_none_or(|s| i.0.restore_sliding_impulses(s));
-                i.0.restore_warm_start(dv) && pressed && sliding
+            (Some(mut i), Some(s)) => {
+                i.0.stats = s.stats;
+                i.0.restore_warm_start(&s.warm_start)
+                    && i.0.restore_pressed(&s.pressed)
+                    && i.0.restore_sliding_impulses(&s.sliding)
             }
             (i, s) => i.is_none() && s.is_none(),
         };

@@ -9,13 +9,9 @@ use rand_chacha::rand_core::SeedableRng;
 use rapier3d::prelude::*;
 
 use crate::bodies::{ClothBodies, NodeOptions};
-use crate::forces::{
-    AirDrag, Bending, ClothTopology, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation,
-    Trellising,
-};
+use crate::forces::{ClothTopology, EffectChoice, Effects, StretchModel};
 use crate::implicit::{ImplicitSolver, Integrator};
 use crate::material::Fabric;
-use crate::scene::StretchModel;
 use crate::schedule::ClothState;
 
 /// Outline of the flat cloth.
@@ -44,29 +40,15 @@ pub struct Pin {
     pub anchor: Vec3,
 }
 
-/// Everything a built cloth consists of: its state, its Rapier bodies, and one generator per
-/// effect it asked for.
+/// Everything a built cloth consists of: its state, its Rapier bodies, and the generators of
+/// the effects it asked for.
 pub struct ClothParts {
     /// Node state and force buffers.
     pub state: ClothState,
     /// The Rapier bodies and joints.
     pub bodies: ClothBodies,
-    /// Bending (seed eq. 2), if asked for.
-    pub bending: Option<Bending>,
-    /// Trellising (seed eq. 3), if asked for.
-    pub trellising: Option<Trellising>,
-    /// The seed's separation stretch, if chosen.
-    pub stretch_seed: Option<SeedSeparation>,
-    /// The KES tensile stretch, if chosen.
-    pub stretch_kes: Option<KesTensile>,
-    /// Compression resistance of rope-jointed links (stretch as a constraint).
-    pub compression: Option<LinkCompression>,
-    /// Damping of relative motion, if asked for.
-    pub damping: Option<LinkDamping>,
-    /// Air drag, if asked for.
-    pub air_drag: Option<AirDrag>,
-    /// Bending and shear hysteresis (KES 2HB, 2HG, 2HG5), if asked for.
-    pub hysteresis: Option<Hysteresis>,
+    /// One force generator per effect asked for, in the order their forces are added.
+    pub effects: Effects,
     /// The backward-Euler solve, for [`Integrator::Implicit`].
     pub implicit: Option<ImplicitSolver>,
 }
@@ -86,13 +68,7 @@ pub struct ClothBuilder {
     fold_gap: Option<f64>,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
-    stretch: StretchModel,
-    compression_modulus: Option<f64>,
-    bending: bool,
-    trellising: bool,
-    damping: Option<f64>,
-    air_drag: Option<f64>,
-    hysteresis: bool,
+    effects: EffectChoice,
     contact: bool,
     self_collision: bool,
     gravity: bool,
@@ -114,13 +90,15 @@ impl ClothBuilder {
             fold_gap: None,
             node_radius: None,
             perturbation: (0.0, 0),
-            stretch: StretchModel::Constraint,
-            compression_modulus: None,
-            bending: true,
-            trellising: true,
-            damping: Some(150.0),
-            air_drag: None,
-            hysteresis: false,
+            effects: EffectChoice {
+                stretch: StretchModel::Constraint,
+                compression_modulus: None,
+                bending: true,
+                trellising: true,
+                damping: Some(150.0),
+                air_drag: None,
+                hysteresis: false,
+            },
             contact: true,
             self_collision: false,
             gravity: true,
@@ -187,42 +165,43 @@ impl ClothBuilder {
 
     /// How the threads resist stretch.
     pub fn stretch(mut self, model: StretchModel) -> Self {
-        self.stretch = model;
+        self.effects.stretch = model;
         self
     }
 
     /// With stretch as a constraint, the link compression spring's in-plane modulus (N/m; each
-    /// link's stiffness), or `None` (default) for [`LinkCompression::default_modulus`]. The
+    /// link's stiffness), or `None` (default) for the default modulus. The
     /// builder runs no stability guard: an explicit world step must stay below the limit
-    /// [`crate::forces::explicit_step_limits`] gives (0.139 ms for thick cotton at 1 cm).
+    /// [`crate::forces::explicit_step_limits`] gives (0.139 ms for thick cotton at 1 cm); the
+    /// default is [`crate::forces::LinkCompression::default_modulus`].
     pub fn compression_modulus(mut self, modulus: Option<f64>) -> Self {
-        self.compression_modulus = modulus;
+        self.effects.compression_modulus = modulus;
         self
     }
 
     /// Switches KES bending and trellising on or off.
     pub fn bending_and_trellising(mut self, bending: bool, trellising: bool) -> Self {
-        self.bending = bending;
-        self.trellising = trellising;
+        self.effects.bending = bending;
+        self.effects.trellising = trellising;
         self
     }
 
     /// Link damping rate (1/s), or `None` for none.
     pub fn damping(mut self, rate: Option<f64>) -> Self {
-        self.damping = rate;
+        self.effects.damping = rate;
         self
     }
 
     /// Air drag coefficient (N·s/m³), or `None` for none.
     pub fn air_drag(mut self, coefficient: Option<f64>) -> Self {
-        self.air_drag = coefficient;
+        self.effects.air_drag = coefficient;
         self
     }
 
     /// Hysteresis of bending and shear from the fabric's 2HB, 2HG and 2HG5 (default off: the
     /// elastic mean curves alone). Acts on whichever of bending and trellising is on.
     pub fn hysteresis(mut self, on: bool) -> Self {
-        self.hysteresis = on;
+        self.effects.hysteresis = on;
         self
     }
 
@@ -319,7 +298,7 @@ impl ClothBuilder {
         let options = NodeOptions {
             mass: node_mass,
             radius: self.node_radius.unwrap_or(sigma / 2.0),
-            rope_links: self.stretch == StretchModel::Constraint,
+            rope_links: self.effects.stretch == StretchModel::Constraint,
             contact: self.contact,
             self_collision: self.self_collision,
             gravity: self.gravity,
@@ -339,36 +318,18 @@ impl ClothBuilder {
                 world.insert_impulse_joint(pin.body, bodies.handles[node], joint);
             }
         }
-        let fabric = &self.fabric;
-        let t = &topology;
         ClothParts {
-            bending: self.bending.then(|| Bending::new(t.clone(), fabric)),
-            trellising: self.trellising.then(|| Trellising::new(t.clone(), fabric)),
-            stretch_seed: (self.stretch == StretchModel::Seed)
-                .then(|| SeedSeparation::new(t.clone(), fabric)),
-            stretch_kes: (self.stretch == StretchModel::Kes).then(|| KesTensile::new(t.clone(), fabric)),
-            compression: (self.stretch == StretchModel::Constraint).then(|| {
-                let modulus = self
-                    .compression_modulus
-                    .unwrap_or_else(|| LinkCompression::default_modulus(fabric, sigma));
-                LinkCompression::new(t.clone(), modulus)
-            }),
-            damping: self
-                .damping
-                .map(|rate| LinkDamping::new(t.clone(), rate, node_mass)),
-            air_drag: self.air_drag.map(|c| AirDrag::new(c, sigma)),
-            hysteresis: (self.hysteresis && (self.bending || self.trellising))
-                .then(|| Hysteresis::new(t.clone(), fabric, self.bending, self.trellising)),
+            effects: Effects::build(&self.effects, &topology, &self.fabric, node_mass),
             implicit: match self.integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => {
-                    let mut solver = ImplicitSolver::new(t.clone(), node_mass, settings);
+                    let mut solver = ImplicitSolver::new(topology.clone(), node_mass, settings);
                     for node in held {
                         solver.hold(node);
                     }
                     // Friction in the solve needs every force on a node in the solve: Rapier's
                     // rope joints are not (docs/model.md §12).
-                    let rope = self.stretch == StretchModel::Constraint;
+                    let rope = self.effects.stretch == StretchModel::Constraint;
                     solver.apply_friction(settings.friction.unwrap_or(!rope));
                     Some(solver)
                 }

@@ -4,7 +4,6 @@ use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
 use super::ClothParts;
-use crate::forces::ForceGenerator;
 
 /// A cloth in a user's Rapier world. Each frame: [`KesCloth::step`], or
 /// [`KesCloth::apply_forces`] followed by your own `world.step()`.
@@ -26,28 +25,16 @@ impl KesCloth {
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
         state.geometry.update(&state.positions);
         state.forces.clear();
-        if let Some(h) = &mut p.hysteresis {
-            h.advance_state(&state.geometry);
-        }
-        let generators = [
-            p.bending.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.trellising.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.stretch_seed.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.stretch_kes.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.compression.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.damping.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.air_drag.as_ref().map(|g| g as &dyn ForceGenerator),
-            p.hysteresis.as_ref().map(|g| g as &dyn ForceGenerator),
-        ];
-        for g in generators.iter().flatten() {
-            g.add_forces(&state.geometry, &state.velocities, &mut state.forces);
-        }
+        p.effects.advance_state(&state.geometry);
+        p.effects
+            .add_forces(&state.geometry, &state.velocities, &mut state.forces);
         state.forces.resolve(&state.topology);
         if let Some(implicit) = &mut p.implicit {
             p.bodies.read_supports(world, &mut implicit.supports);
             let h = world.integration_parameters.dt as f64;
             let forces = &mut state.forces.particle;
             let g = p.bodies.gravity(world);
+            let generators: Vec<_> = p.effects.iter().map(Some).collect();
             implicit.solve(&generators, &state.geometry, &state.velocities, forces, (h, g));
         }
         p.bodies.write_forces(world, &state.forces.particle);

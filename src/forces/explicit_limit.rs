@@ -18,14 +18,15 @@
 //! and ω = √(k/m). Symplectic Euler's own limit is ω·dt = 2, but near it the highest modes are
 //! barely damped and contact and joints add stiffness: thick cotton at 1 cm (trellising,
 //! 2/ω = 0.46 ms) settles at 0.35 ms (ω·dt = 1.54), still moves at 0.8 m/s after 3 s at 0.41 ms
-//! (ω·dt = 1.8) and diverges at 1.37 ms (measured with the softer, step-sized compression spring
-//! of sessions 1–4; `tests/stability_guard.rs` now probes trellising with a 100 N/m spring). The
+//! (ω·dt = 1.8) and diverges at 1.37 ms (measured with a compression spring sized from the step,
+//! softer than [`LinkCompression::default_modulus`]; `tests/stability_guard.rs` probes
+//! trellising with a 100 N/m spring). The
 //! limit used is therefore ω·dt ≤ [`MAX_OMEGA_DT`].
 //! Link damping is checked on its own (rate·dt < 1/4, `scene::scene_validation`).
 
 use super::LinkCompression;
+use super::StretchModel;
 use crate::material::{Fabric, HysteresisLaw, Thread};
-use crate::scene::StretchModel;
 
 /// Largest ω·dt allowed for an explicit force (dimensionless; symplectic Euler's bound is 2).
 pub const MAX_OMEGA_DT: f64 = 1.6;

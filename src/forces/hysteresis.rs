@@ -29,17 +29,6 @@ use crate::material::{Fabric, FrictionResponse, HysteresisLaw, Thread};
 /// A trellis corner as its two links, each with the sign that points it away from the crossing.
 type Corner = [(u32, f64); 2];
 
-/// The internal state of a [`Hysteresis`] effect: every element's slip and the energy dissipated.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct FrictionState {
-    /// Slip of each bending spring's element (m⁻¹; NaN before its first step).
-    pub bend_slip: Vec<f64>,
-    /// Slip of each trellis corner's element (dimensionless; NaN before its first step).
-    pub corner_slip: Vec<f64>,
-    /// Energy dissipated so far (J).
-    pub dissipated: f64,
-}
-
 /// A bending spring's out-of-plane curvature and what its forces need.
 struct SpringShape {
     /// K_n = (Û + Ŵ)·n/σ (m⁻¹): the curvature of the thread across the cloth, positive towards the
@@ -101,28 +90,6 @@ impl Hysteresis {
             topology,
             dissipated: 0.0,
         }
-    }
-
-    /// The elements' state, for checkpoints.
-    pub fn friction_state(&self) -> FrictionState {
-        FrictionState {
-            bend_slip: self.bend_slip.clone(),
-            corner_slip: self.corner_slip.clone(),
-            dissipated: self.dissipated,
-        }
-    }
-
-    /// Restores a state saved by [`Self::friction_state`]; `false` (and nothing changed) if it
-    /// does not fit this cloth.
-    pub fn restore_friction_state(&mut self, state: &FrictionState) -> bool {
-        if state.bend_slip.len() != self.bend_slip.len() || state.corner_slip.len() != self.corner_slip.len()
-        {
-            return false;
-        }
-        self.bend_slip.clone_from(&state.bend_slip);
-        self.corner_slip.clone_from(&state.corner_slip);
-        self.dissipated = state.dissipated;
-        true
     }
 
     /// Energy dissipated by the sliders so far (J).
@@ -365,6 +332,27 @@ impl ForceGenerator for Hysteresis {
             }
         }
         self.dissipated += dissipated;
+    }
+
+    /// Every bending spring's slip (m⁻¹), every corner's (dimensionless), then the energy
+    /// dissipated (J); a slip is NaN before its element's first step.
+    fn state(&self) -> Option<Vec<f64>> {
+        let mut state = Vec::with_capacity(self.bend_slip.len() + self.corner_slip.len() + 1);
+        state.extend_from_slice(&self.bend_slip);
+        state.extend_from_slice(&self.corner_slip);
+        state.push(self.dissipated);
+        Some(state)
+    }
+
+    fn restore_state(&mut self, state: &[f64]) -> bool {
+        let (bends, corners) = (self.bend_slip.len(), self.corner_slip.len());
+        if state.len() != bends + corners + 1 {
+            return false;
+        }
+        self.bend_slip.copy_from_slice(&state[..bends]);
+        self.corner_slip.copy_from_slice(&state[bends..bends + corners]);
+        self.dissipated = state[bends + corners];
+        true
     }
 }
 

@@ -15,6 +15,9 @@
 //! | linear air drag | [`air_drag`] | dissipative |
 //! | bending and shear hysteresis (KES 2HB, 2HG, 2HG5) | [`hysteresis`] | friction elements, dissipative |
 //!
+//! [`EffectKind`] is the one list of these effects (name, build condition, order); a cloth carries
+//! the ones it asks for as [`Effects`].
+//!
 //! Each generator also gives the products of its energy Hessian and damping matrix with a
 //! perturbation (matrix-free, the reference the tests check against finite differences) and the
 //! same matrices assembled into a [`LinkMatrix`], which the implicit integrator
@@ -24,6 +27,7 @@ pub mod air_drag;
 pub mod bending;
 mod cloth_geometry;
 mod cloth_topology;
+mod effects;
 mod element_stiffness;
 mod explicit_limit;
 mod force_buffer;
@@ -44,10 +48,11 @@ pub use bending::Bending;
 pub use cloth_geometry::ClothGeometry;
 pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, SignedLink};
+pub use effects::{EffectChoice, EffectKind, EffectStates, Effects, StretchModel};
 pub(crate) use element_stiffness::outer;
 pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
 pub use force_buffer::ForceBuffer;
-pub use hysteresis::{FrictionState, Hysteresis};
+pub use hysteresis::Hysteresis;
 pub use kes_tensile::KesTensile;
 pub use link_compression::{BUCKLING_MARGIN, LinkCompression};
 pub use link_damping::LinkDamping;
@@ -100,4 +105,16 @@ pub trait ForceGenerator: Send + Sync {
     /// per step before its forces are taken; forces then read that state without changing it.
     /// Stateless effects do nothing (the default).
     fn advance_state(&mut self, _geometry: &ClothGeometry) {}
+
+    /// The internal state [`Self::advance_state`] moves, as numbers a checkpoint keeps exactly;
+    /// `None` for stateless effects (the default).
+    fn state(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Restores a state saved by [`Self::state`]; `false` (and nothing changed) if it does not
+    /// fit this effect. Stateless effects accept nothing (the default).
+    fn restore_state(&mut self, _state: &[f64]) -> bool {
+        false
+    }
 }

@@ -406,7 +406,7 @@ impl ImplicitSolver {
                     // the motion. A node starting from rest thus speeds up by at most
                     // |λ_t|/(μ·λ_n) a step until the drag is Coulomb's; any larger estimate of
                     // s (from the hold's excess impulse) let rim nodes overshoot and flicker at
-                    // 50 mm/s on the drapemeter (session 10).
+                    // 50 mm/s on the drapemeter (docs/model.md §12).
                     let speed = tangential(n, velocities[i]).length().max(FRICTION_SPEED);
                     self.sliding_impulse[i] = mu * normal.max(0.0);
                     self.sliding_drag[i] = self.sliding_impulse[i] / speed;

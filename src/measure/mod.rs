@@ -13,7 +13,9 @@ pub use drape::{
     DrapeMeasurement, NODE_PROMINENCE, SkirtMeasurement, measure_drape, measure_skirt, peaks, project,
     union_area,
 };
-pub use motion::{Motion, MovingColliders, WorldColliders, link_strains, measure_motion};
+pub use motion::{
+    Motion, MovingColliders, RUNAWAY_SPEED, RUNAWAY_STRAIN, WorldColliders, link_strains, runaway_causes,
+};
 pub use penetration::{depth_inside, max_penetration};
-pub use progress::{Progress, report_progress};
-pub use settle::{SettleState, update_settle};
+pub use progress::Progress;
+pub use settle::SettleState;

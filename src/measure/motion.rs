@@ -1,11 +1,9 @@
-//! Per-step motion statistics and the finite-value guard after Rapier's step.
+//! Per-step motion statistics and the runaway limits.
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
 
-use crate::bodies::ClothBodies;
 use crate::forces::ClothTopology;
-use crate::schedule::{Clock, ClothNodes, ClothState, Failure, Implicit, Physics, SimulationFailure};
 
 /// Motion of the cloth after the latest step.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -55,103 +53,42 @@ pub fn link_strains<'a>(
         .map(move |&[p, q]| ((positions[q as usize] - positions[p as usize]).length() / sigma - 1.0).abs())
 }
 
-fn measure(bodies: &ClothBodies, state: &ClothState, dt: f64) -> Motion {
-    let (positions, velocities) = (&state.positions, &state.velocities);
-    let mut m = Motion {
-        min_height: f64::INFINITY,
-        ..Default::default()
-    };
-    for (i, (x, v)) in positions.iter().zip(velocities).enumerate() {
-        let speed = v.length();
-        if speed > m.max_speed {
-            m.max_speed = speed;
-            m.fastest_node = i;
-        }
-        m.kinetic_energy += 0.5 * bodies.node_mass * speed * speed;
-        m.min_height = m.min_height.min(x.y);
-    }
-    m.max_step_speed = positions
-        .iter()
-        .zip(&state.previous_positions)
-        .map(|(x, before)| (*x - *before).length())
-        .fold(0.0, f64::max)
-        / dt;
-    m.max_strain = link_strains(&state.topology, positions).fold(0.0, f64::max);
-    m
-}
-
-/// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
-pub fn measure_motion(
-    physics: Res<Physics>,
-    clock: Res<Clock>,
-    mut motion: ResMut<Motion>,
-    mut failure: ResMut<Failure>,
-    mut colliders: Option<ResMut<WorldColliders>>,
-    moving: Option<Res<MovingColliders>>,
-    mut cloths: Query<(&ClothNodes, &mut ClothState, Has<Implicit>)>,
-) {
-    for (nodes, mut state, implicit) in &mut cloths {
-        let state = &mut *state;
-        std::mem::swap(&mut state.positions, &mut state.previous_positions);
-        nodes
-            .0
-            .read(&physics.0, &mut state.positions, &mut state.velocities);
-        let bad = state
-            .positions
-            .iter()
-            .zip(&state.velocities)
-            .position(|(x, v)| !x.is_finite() || !v.is_finite());
-        if let Some(i) = bad {
-            failure.0 = Some(SimulationFailure {
-                step: clock.step,
-                time: clock.time,
-                particle: i,
-                effect: "rapier_step".into(),
-                message: format!(
-                    "node position {:?} m or velocity {:?} m/s is not finite after Rapier's step; \
-                     likely cause: a force or contact too stiff for dt = {} s",
-                    state.positions[i], state.velocities[i], clock.dt
-                ),
-            });
-            return;
-        }
-        let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
-        let now = measure(&nodes.0, state, clock.dt);
-        if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
-            failure.0 = Some(SimulationFailure {
-                step: clock.step,
-                time: clock.time,
-                particle: now.fastest_node,
-                // The run loop names the effect pushing hardest on this node.
-                effect: String::from("(runaway)"),
-                message: format!(
-                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; {}",
-                    now.max_speed,
-                    now.max_strain * 100.0,
-                    runaway_causes(implicit, !nodes.0.joints.is_empty(), clock.dt)
-                ),
-            });
-            return;
-        }
-        *motion = now;
-        motion.peak_strain = peak.max(motion.max_strain);
-        if let (Some(colliders), Some(moving)) = (colliders.as_mut(), moving.as_ref()) {
-            for &(k, body) in &moving.0 {
-                if let (Some(b), Some(entry)) = (physics.0.bodies.get(body), colliders.0.get_mut(k)) {
-                    entry.1 = b.translation().as_dvec3();
-                }
+impl Motion {
+    /// The motion of nodes of `node_mass` (kg) at `positions` (m) with `velocities` (m/s), which
+    /// were at `previous` (m) one step `dt` (s) earlier, on the grid `topology`.
+    pub fn of(
+        topology: &ClothTopology,
+        node_mass: f64,
+        (positions, previous, velocities): (&[DVec3], &[DVec3], &[DVec3]),
+        dt: f64,
+    ) -> Self {
+        let mut m = Motion {
+            min_height: f64::INFINITY,
+            ..Default::default()
+        };
+        for (i, (x, v)) in positions.iter().zip(velocities).enumerate() {
+            let speed = v.length();
+            if speed > m.max_speed {
+                m.max_speed = speed;
+                m.fastest_node = i;
             }
+            m.kinetic_energy += 0.5 * node_mass * speed * speed;
+            m.min_height = m.min_height.min(x.y);
         }
-        let depth = colliders
-            .as_ref()
-            .map_or(0.0, |c| super::max_penetration(&c.0, &state.positions).0);
-        motion.peak_penetration = peak_penetration.max(depth);
+        m.max_step_speed = positions
+            .iter()
+            .zip(previous)
+            .map(|(x, before)| (*x - *before).length())
+            .fold(0.0, f64::max)
+            / dt;
+        m.max_strain = link_strains(topology, positions).fold(0.0, f64::max);
+        m
     }
 }
 
 /// What to suspect when a run runs away: with the implicit solve our forces are stable at any
 /// step, so there it is the rope joints (solved by Rapier, after our solve) or the load.
-fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64) -> String {
+pub fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64) -> String {
     let load = "a load the links cannot carry, such as a body much heavier than the nodes \
                 pressing on the cloth (scenes/hard/ball_impact.ron)";
     match (implicit, rope_joints) {

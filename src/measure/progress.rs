@@ -4,7 +4,6 @@ use bevy_ecs::prelude::*;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::Motion;
-use crate::schedule::Clock;
 
 /// A terminal progress bar over simulated time; present only for interactive runs.
 #[derive(Resource)]
@@ -32,17 +31,18 @@ impl Progress {
     pub fn finish(&self) {
         self.bar.finish_and_clear();
     }
-}
 
-/// Phase 5: shows simulated time, fastest node and strain.
-pub fn report_progress(clock: Res<Clock>, motion: Res<Motion>, progress: Res<Progress>) {
-    if clock.step % progress.every == 0 {
-        progress.bar.set_position((clock.time * 1000.0).round() as u64);
-        progress.bar.set_message(format!(
-            "t = {:.2} s, fastest node {:.1} mm/s, max strain {:.2} %",
-            clock.time,
-            motion.max_speed * 1000.0,
-            motion.max_strain * 100.0
-        ));
+    /// Shows simulated time `time` (s), the fastest node and the largest strain, every
+    /// `every`-th `step`.
+    pub fn show(&self, step: u64, time: f64, motion: &Motion) {
+        if step % self.every == 0 {
+            self.bar.set_position((time * 1000.0).round() as u64);
+            self.bar.set_message(format!(
+                "t = {:.2} s, fastest node {:.1} mm/s, max strain {:.2} %",
+                time,
+                motion.max_speed * 1000.0,
+                motion.max_strain * 100.0
+            ));
+        }
     }
 }

@@ -11,8 +11,6 @@ use std::collections::VecDeque;
 use bevy_ecs::prelude::*;
 use glam::DVec3;
 
-use crate::schedule::{Clock, ClothState};
-
 /// Snapshots per hold window: the window is resolved to a fifth of its length.
 const SNAPSHOTS_PER_WINDOW: usize = 5;
 
@@ -77,12 +75,5 @@ impl SettleState {
         if speed < self.max_speed {
             self.settled_at = Some(*t0);
         }
-    }
-}
-
-/// Phase 4: updates the settle criterion from the cloth's positions.
-pub fn update_settle(clock: Res<Clock>, cloths: Query<&ClothState>, mut settle: ResMut<SettleState>) {
-    for state in &cloths {
-        settle.observe(clock.time, &state.positions);
     }
 }

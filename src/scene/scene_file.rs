@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::forces::StretchModel;
 use crate::material::KesFabric;
 
 /// The schema version this build reads.
@@ -28,6 +29,9 @@ pub struct SceneFile {
     pub seed: u64,
     /// The rigid world: gravity and colliders.
     pub world: WorldSpec,
+    /// What the run measures once the cloth settles: `Drape(disk: "disk")`,
+    /// `Tablecloth(table: "table")` or `None` (motion and rest only).
+    pub measure: MeasureSpec,
     /// The effects this scene simulates; anything not asked for never runs.
     pub effects: EffectsSpec,
     /// Time stepping, solver and stopping.
@@ -102,6 +106,43 @@ pub enum ClothShape {
     Square {
         /// Side length (m).
         side_m: f64,
+    },
+    /// A rectangle, sides along warp and weft (strips: KES and bending-length specimens).
+    Rectangle {
+        /// Length along the warp (m).
+        warp_m: f64,
+        /// Length along the weft (m).
+        weft_m: f64,
+    },
+}
+
+impl ClothShape {
+    /// Lengths of the outline's bounding box along warp and weft (m).
+    pub fn extent_m(&self) -> [f64; 2] {
+        match *self {
+            ClothShape::Circle { diameter_m } => [diameter_m; 2],
+            ClothShape::Square { side_m } => [side_m; 2],
+            ClothShape::Rectangle { warp_m, weft_m } => [warp_m, weft_m],
+        }
+    }
+}
+
+/// What a run measures once the cloth settles, on which of the scene's colliders.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum MeasureSpec {
+    /// Nothing beyond motion, strain, penetration and rest.
+    None,
+    /// The drape test: drape coefficient, nodes and outline around the named collider, a
+    /// `Cylinder` (the drapemeter disk).
+    Drape {
+        /// Name of the disk's collider.
+        disk: String,
+    },
+    /// A rectangular cloth on a table: the hang of its corners and mid-sides below the table
+    /// top (m) and its skirt's folds, around the named collider, a `Cuboid`.
+    Tablecloth {
+        /// Name of the table's collider.
+        table: String,
     },
 }
 
@@ -269,17 +310,6 @@ pub struct EffectsSpec {
 
 fn yes() -> bool {
     true
-}
-
-/// How the threads resist stretch.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum StretchModel {
-    /// Rapier rope joints at the rest spacing: nearly inextensible, solved implicitly.
-    Constraint,
-    /// The seed's separation law (eq. 1), C₀ from the KES tensile test.
-    Seed,
-    /// The KES tensile power law from EMT, LT and WT.
-    Kes,
 }
 
 /// Damping of the cloth's internal motion.

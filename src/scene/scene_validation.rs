@@ -1,7 +1,8 @@
 //! Physical and numerical range checks of a scene, each naming the field and the allowed range.
 
 use super::scene_file::{
-    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, SCENE_VERSION, SceneFile, StretchModel,
+    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, MeasureSpec, SCENE_VERSION, SceneFile,
+    StretchModel,
 };
 
 /// A field outside its range: (field path, value, reason).
@@ -87,29 +88,33 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
     }
 
     let c = &s.cloth;
-    let size = match c.shape {
+    match c.shape {
         ClothShape::Circle { diameter_m } => {
             in_open_closed("cloth.shape.diameter_m", diameter_m, 0.0, 100.0, "m")?;
-            diameter_m
         }
         ClothShape::Square { side_m } => {
             in_open_closed("cloth.shape.side_m", side_m, 0.0, 100.0, "m")?;
-            side_m
         }
-    };
+        ClothShape::Rectangle { warp_m, weft_m } => {
+            in_open_closed("cloth.shape.warp_m", warp_m, 0.0, 100.0, "m")?;
+            in_open_closed("cloth.shape.weft_m", weft_m, 0.0, 100.0, "m")?;
+        }
+    }
+    let [warp, weft] = c.shape.extent_m();
     in_open_closed(
         "cloth.spacing_m",
         c.spacing_m,
         0.0,
-        size / 2.0,
+        warp.min(weft) / 2.0,
         "m (at least three nodes across the cloth)",
     )?;
-    let across = (size / c.spacing_m).floor() + 1.0;
-    if across * across > MAX_NODES as f64 {
+    let across = |l: f64| (l / c.spacing_m).floor() + 1.0;
+    let nodes = across(warp) * across(weft);
+    if nodes > MAX_NODES as f64 {
         return Err(violation(
             "cloth.spacing_m",
             c.spacing_m,
-            format!("gives about {across:.0}² nodes; at most {MAX_NODES} are allowed"),
+            format!("gives about {nodes:.0} nodes; at most {MAX_NODES} are allowed"),
         ));
     }
     finite3("cloth.centre_m", c.centre_m)?;
@@ -232,6 +237,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             finite3(&f("motion.velocity_m_per_s"), velocity_m_per_s)?;
         }
     }
+    validate_measure(s)?;
 
     let i = &s.integration;
     in_open_closed("integration.dt_s", i.dt_s, 0.0, 0.1, "s")?;
@@ -331,5 +337,50 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
     }
 
     whole("output.image_size_px", s.output.image_size_px as usize, 64, 8192)?;
+    Ok(())
+}
+
+/// The measured collider exists, has the shape its measurement needs and stays put; a
+/// tablecloth is rectangular.
+fn validate_measure(s: &SceneFile) -> Result<(), Violation> {
+    let (field, name, shape_ok, shape): (_, _, fn(&ColliderShape) -> bool, _) = match &s.measure {
+        MeasureSpec::None => return Ok(()),
+        MeasureSpec::Drape { disk } => (
+            "measure.disk",
+            disk,
+            |c| matches!(c, ColliderShape::Cylinder { .. }),
+            "Cylinder",
+        ),
+        MeasureSpec::Tablecloth { table } => {
+            if matches!(s.cloth.shape, ClothShape::Circle { .. }) {
+                return Err(violation(
+                    "measure",
+                    "Tablecloth",
+                    "needs a `Square` or `Rectangle` cloth: its corners and mid-sides are measured",
+                ));
+            }
+            (
+                "measure.table",
+                table,
+                |c| matches!(c, ColliderShape::Cuboid { .. }),
+                "Cuboid",
+            )
+        }
+    };
+    let names: Vec<&str> = s.world.colliders.iter().map(|c| c.name.as_str()).collect();
+    let Some(collider) = s.world.colliders.iter().find(|c| &c.name == name) else {
+        return Err(violation(
+            field,
+            format!("{name:?}"),
+            format!("must name one of the scene's colliders: {names:?}"),
+        ));
+    };
+    if !shape_ok(&collider.shape) || collider.motion != ColliderMotion::Fixed {
+        return Err(violation(
+            field,
+            format!("{name:?}"),
+            format!("must name a fixed `{shape}` collider"),
+        ));
+    }
     Ok(())
 }

@@ -25,6 +25,10 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
             warp: side_m,
             weft: side_m,
         },
+        ClothShape::Rectangle { warp_m, weft_m } => ClothOutline::Rectangle {
+            warp: warp_m,
+            weft: weft_m,
+        },
     };
     ClothBuilder::new(scene.fabric.clone())
         .outline(outline)

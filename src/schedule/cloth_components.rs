@@ -7,7 +7,7 @@ use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
 use crate::bodies::ClothBodies;
-use crate::forces::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator};
+use crate::forces::{ClothGeometry, ClothTopology, EffectKind, Effects, ForceBuffer};
 
 /// The Rapier world (bodies, colliders, joints, pipeline), owned by the ECS world.
 #[derive(Resource)]
@@ -55,11 +55,9 @@ pub struct ClothNodes(pub ClothBodies);
 #[derive(Component)]
 pub struct Implicit(pub crate::implicit::ImplicitSolver);
 
-/// A force generator acting on the cloth entity that carries it. Its presence is the run
-/// condition of the system that applies it: an effect a scene does not declare has no
-/// component, so its system never runs.
+/// The effects a cloth carries (see [`crate::forces::Effects`]): only these run.
 #[derive(Component)]
-pub struct Effect<G: ForceGenerator + 'static>(pub G);
+pub struct ClothEffects(pub Effects);
 
 /// Simulation time.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -79,26 +77,17 @@ pub struct EffectLedger {
     pub entries: Vec<(&'static str, u64, f64)>,
 }
 
-/// Every effect kes-cloth can run as a system, by name; each appears in `metrics.json`, with 0
-/// calls when the scene did not ask for it.
-pub const EFFECT_NAMES: [&str; 10] = [
-    "bending",
-    "trellising",
-    "stretch_seed",
-    "stretch_kes",
-    "compression",
-    "damping",
-    "air_drag",
-    "hysteresis",
-    "implicit_solve",
-    "rapier_step",
-];
+/// Ledger entries besides the force generators': the implicit solve and Rapier's step.
+const SOLVER_ENTRIES: [&str; 2] = ["implicit_solve", "rapier_step"];
 
 impl EffectLedger {
-    /// A ledger listing every effect with no calls.
+    /// A ledger listing every effect ([`EffectKind::ALL`]), then the implicit solve and
+    /// Rapier's step, with no calls: each appears in `metrics.json`, with 0 calls when the scene
+    /// did not ask for it.
     pub fn with_all_effects() -> Self {
+        let names = EffectKind::ALL.iter().map(|k| k.name()).chain(SOLVER_ENTRIES);
         Self {
-            entries: EFFECT_NAMES.iter().map(|n| (*n, 0, 0.0)).collect(),
+            entries: names.map(|n| (n, 0, 0.0)).collect(),
         }
     }
 

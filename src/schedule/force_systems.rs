@@ -5,11 +5,7 @@ use std::time::Instant;
 use bevy_ecs::prelude::*;
 
 use super::cloth_components::{
-    Clock, ClothNodes, ClothState, Effect, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
-};
-use crate::forces::{
-    AirDrag, Bending, ForceGenerator, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation,
-    Trellising,
+    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
 };
 
 /// Phase 1, prepare: update link geometry from the node state (read from Rapier at the end of
@@ -24,29 +20,29 @@ pub fn prepare_forces(mut cloths: Query<&mut ClothState>) {
 
 /// End of phase 1, for effects with internal state (hysteresis): move that state to the
 /// configuration the step starts from, before any force is taken.
-pub fn advance_effect_state<G: ForceGenerator + 'static>(
-    mut cloths: Query<(&ClothState, &mut Effect<G>)>,
+pub fn advance_effect_states(
+    mut cloths: Query<(&ClothState, &mut ClothEffects)>,
     mut ledger: ResMut<EffectLedger>,
 ) {
-    for (state, mut effect) in &mut cloths {
-        let start = Instant::now();
-        effect.0.advance_state(&state.geometry);
-        ledger.add_seconds(effect.0.effect(), start.elapsed().as_secs_f64());
+    for (state, mut effects) in &mut cloths {
+        for g in effects.0.iter_mut() {
+            let start = Instant::now();
+            g.advance_state(&state.geometry);
+            ledger.add_seconds(g.effect(), start.elapsed().as_secs_f64());
+        }
     }
 }
 
-/// Phase 2, forces: one instance per effect, e.g. `apply_effect::<Bending>`.
-pub fn apply_effect<G: ForceGenerator + 'static>(
-    mut cloths: Query<(&mut ClothState, &Effect<G>)>,
-    mut ledger: ResMut<EffectLedger>,
-) {
-    for (mut state, effect) in &mut cloths {
-        let start = Instant::now();
+/// Phase 2, forces: each effect the cloth carries adds its forces, in the registry's order
+/// ([`crate::forces::EffectKind::ALL`]); each call is timed into the ledger.
+pub fn apply_effects(mut cloths: Query<(&mut ClothState, &ClothEffects)>, mut ledger: ResMut<EffectLedger>) {
+    for (mut state, effects) in &mut cloths {
         let state = &mut *state;
-        effect
-            .0
-            .add_forces(&state.geometry, &state.velocities, &mut state.forces);
-        ledger.record(effect.0.effect(), start.elapsed().as_secs_f64());
+        for g in effects.0.iter() {
+            let start = Instant::now();
+            g.add_forces(&state.geometry, &state.velocities, &mut state.forces);
+            ledger.record(g.effect(), start.elapsed().as_secs_f64());
+        }
     }
 }
 
@@ -68,18 +64,6 @@ pub fn sum_forces(clock: Res<Clock>, mut failure: ResMut<Failure>, mut cloths: Q
     }
 }
 
-/// Every effect a cloth entity may carry, as optional components.
-type EffectComponents = (
-    Option<&'static Effect<Bending>>,
-    Option<&'static Effect<Trellising>>,
-    Option<&'static Effect<SeedSeparation>>,
-    Option<&'static Effect<KesTensile>>,
-    Option<&'static Effect<LinkCompression>>,
-    Option<&'static Effect<LinkDamping>>,
-    Option<&'static Effect<AirDrag>>,
-    Option<&'static Effect<Hysteresis>>,
-);
-
 /// Phase 2 (implicit cloths only): replace the summed forces by the backward-Euler force
 /// M·Δv/h (see [`crate::implicit`]).
 pub fn solve_implicit(
@@ -87,26 +71,17 @@ pub fn solve_implicit(
     clock: Res<Clock>,
     mut failure: ResMut<Failure>,
     mut ledger: ResMut<EffectLedger>,
-    mut cloths: Query<(&mut ClothState, &mut Implicit, &ClothNodes, EffectComponents)>,
+    mut cloths: Query<(&mut ClothState, &mut Implicit, &ClothNodes, &ClothEffects)>,
 ) {
     if failure.0.is_some() {
         return;
     }
-    for (mut state, mut implicit, nodes, (b, t, ss, sk, c, d, a, h)) in &mut cloths {
+    for (mut state, mut implicit, nodes, effects) in &mut cloths {
         let start = Instant::now();
         let solver = &mut implicit.0;
         nodes.0.read_supports(&physics.0, &mut solver.supports);
         let state = &mut *state;
-        let generators = [
-            b.map(|e| &e.0 as &dyn ForceGenerator),
-            t.map(|e| &e.0 as &dyn ForceGenerator),
-            ss.map(|e| &e.0 as &dyn ForceGenerator),
-            sk.map(|e| &e.0 as &dyn ForceGenerator),
-            c.map(|e| &e.0 as &dyn ForceGenerator),
-            d.map(|e| &e.0 as &dyn ForceGenerator),
-            a.map(|e| &e.0 as &dyn ForceGenerator),
-            h.map(|e| &e.0 as &dyn ForceGenerator),
-        ];
+        let generators: Vec<_> = effects.0.iter().map(Some).collect();
         let forces = &mut state.forces.particle;
         let gravity = nodes.0.gravity(&physics.0);
         implicit.0.solve(

@@ -4,9 +4,10 @@
 //!
 //! 1. [`Phase::Prepare`]: update the link geometry from the node state, clear the force
 //!    buffers, then move effect state (hysteresis slips) to that geometry.
-//! 2. [`Phase::Forces`]: one system per KES effect (bending, trellising, stretch, damping, air
-//!    drag, hysteresis), each behind a run condition: it runs only if the scene's cloth carries that
-//!    [`Effect`] component. Then the link forces are summed onto nodes; for a cloth with the
+//! 2. [`Phase::Forces`]: each effect the cloth carries ([`ClothEffects`], built from the one
+//!    list of effects, [`crate::forces::EffectKind`]) adds its forces; an effect the scene did
+//!    not ask for is not in that list and never runs. Then the link forces are summed onto
+//!    nodes; for a cloth with the
 //!    [`Implicit`] component they are replaced by the backward-Euler force ([`crate::implicit`]);
 //!    then they are handed to Rapier as one velocity kick per node.
 //! 3. [`Phase::Step`]: Rapier's step (gravity, joints, contact, friction).
@@ -19,22 +20,21 @@
 
 mod cloth_components;
 mod force_systems;
+mod measure_systems;
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
 
 pub use cloth_components::{
-    Clock, ClothNodes, ClothState, EFFECT_NAMES, Effect, EffectLedger, Failure, Implicit, Physics,
-    SimulationFailure,
+    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
 };
 pub use force_systems::{
-    advance_effect_state, apply_effect, prepare_forces, push_forces, solve_implicit, step_rapier, sum_forces,
+    advance_effect_states, apply_effects, prepare_forces, push_forces, solve_implicit, step_rapier,
+    sum_forces,
 };
+pub use measure_systems::{measure_motion, report_progress, update_settle};
 
-use crate::forces::{
-    AirDrag, Bending, Hysteresis, KesTensile, LinkCompression, LinkDamping, SeedSeparation, Trellising,
-};
-use crate::measure::{Progress, measure_motion, report_progress, update_settle};
+use crate::measure::Progress;
 
 /// The phases of one step, run in this order.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -51,8 +51,8 @@ pub enum Phase {
     Output,
 }
 
-/// Builds the step schedule. Systems for every effect are present; each runs only where its
-/// [`Effect`] component exists, so effects a scene leaves out cost one run-condition check.
+/// Builds the step schedule. The force systems run each cloth's own effects; the implicit solve
+/// runs only where an [`Implicit`] component exists, progress only with a [`Progress`] resource.
 pub fn build_step_schedule() -> Schedule {
     let mut schedule = Schedule::default();
     schedule.set_build_settings(ScheduleBuildSettings {
@@ -77,23 +77,13 @@ pub fn add_step_systems(schedule: &mut Schedule) {
             .chain(),
     );
     schedule.add_systems(
-        (
-            prepare_forces,
-            advance_effect_state::<Hysteresis>.run_if(any_with_component::<Effect<Hysteresis>>),
-        )
+        (prepare_forces, advance_effect_states)
             .chain()
             .in_set(Phase::Prepare),
     );
     schedule.add_systems(
         (
-            apply_effect::<Bending>.run_if(any_with_component::<Effect<Bending>>),
-            apply_effect::<Trellising>.run_if(any_with_component::<Effect<Trellising>>),
-            apply_effect::<SeedSeparation>.run_if(any_with_component::<Effect<SeedSeparation>>),
-            apply_effect::<KesTensile>.run_if(any_with_component::<Effect<KesTensile>>),
-            apply_effect::<LinkCompression>.run_if(any_with_component::<Effect<LinkCompression>>),
-            apply_effect::<LinkDamping>.run_if(any_with_component::<Effect<LinkDamping>>),
-            apply_effect::<AirDrag>.run_if(any_with_component::<Effect<AirDrag>>),
-            apply_effect::<Hysteresis>.run_if(any_with_component::<Effect<Hysteresis>>),
+            apply_effects,
             sum_forces,
             solve_implicit.run_if(any_with_component::<Implicit>),
             push_forces,

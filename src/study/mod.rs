@@ -8,6 +8,10 @@
 //! `study.md` and `work_precision.png` (error against wall time, log–log, one curve per varied
 //! key, the scene's own setting marked).
 
+mod convergence;
+mod convergence_report;
+pub mod heavy_elastica;
+pub mod richardson;
 mod shape_error;
 mod study_plan;
 mod study_report;
@@ -15,6 +19,8 @@ mod work_precision_plot;
 
 use std::path::Path;
 
+pub use convergence::{Convergence, ConvergencePlan, ConvergenceRow, run_convergence};
+pub use convergence_report::{extrapolation_line, write_convergence};
 pub use shape_error::ReferenceSurface;
 pub use study_plan::{StudyPlan, Vary};
 pub use study_report::write_study;
@@ -272,7 +278,7 @@ pub fn run_study(
 
 /// The runs of one grid point: the scene itself, or `n` > 1 repeats with seeds 0..n−1 and
 /// lattice placements, each validated as a scene of its own (a rectangle refuses an offset).
-fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneError> {
+pub(crate) fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneError> {
     if n <= 1 {
         return Ok(vec![scene.clone()]);
     }
@@ -283,7 +289,7 @@ fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneError> {
 }
 
 /// One grid point's metrics over its runs (see [`StudyRow::metrics`]) and its DC's spread.
-fn aggregate(runs: &[RunOutcome]) -> (Metrics, Option<f64>) {
+pub(crate) fn aggregate(runs: &[RunOutcome]) -> (Metrics, Option<f64>) {
     let summary = summarise(runs);
     let mut m = runs[0].metrics.clone();
     let n = runs.len() as f64;

@@ -1,0 +1,113 @@
+//! The measurements a scene declares (`measure:`), taken on its settled cloth.
+
+use glam::{DVec2, DVec3};
+
+use crate::forces::ClothTopology;
+use crate::measure::{DrapeMeasurement, measure_drape, measure_skirt, project};
+use crate::scene::{ColliderShape, MeasureSpec, Scene};
+
+/// A rectangular cloth's hang on its table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableHang {
+    /// Mean hang of the four corners below the table top (m).
+    pub corners: f64,
+    /// Mean hang of the four mid-sides below the table top (m).
+    pub mid_sides: f64,
+    /// Folds of the skirt around the table.
+    pub folds: u32,
+}
+
+/// What a settled run measured, as its scene declared.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// The drape test, for `measure: Drape(..)`.
+    pub drape: Option<DrapeMeasurement>,
+    /// The tablecloth's hang, for `measure: Tablecloth(..)`.
+    pub table: Option<TableHang>,
+}
+
+/// Centre (x, z) (m) and radius (m) of the drapemeter disk `measure: Drape(disk: ..)` names.
+pub fn declared_disk(scene: &Scene) -> Option<(DVec2, f64)> {
+    let MeasureSpec::Drape { disk } = &scene.spec.measure else {
+        return None;
+    };
+    scene.spec.world.colliders.iter().find_map(|c| match c.shape {
+        ColliderShape::Cylinder { radius_m, .. } if &c.name == disk => {
+            Some((DVec2::new(c.centre_m[0], c.centre_m[2]), radius_m))
+        }
+        _ => None,
+    })
+}
+
+/// Centre (m) and half extents (m) of the table `measure: Tablecloth(table: ..)` names.
+fn declared_table(scene: &Scene) -> Option<([f64; 3], [f64; 3])> {
+    let MeasureSpec::Tablecloth { table } = &scene.spec.measure else {
+        return None;
+    };
+    scene.spec.world.colliders.iter().find_map(|c| match c.shape {
+        ColliderShape::Cuboid { half_extents_m } if &c.name == table => Some((c.centre_m, half_extents_m)),
+        _ => None,
+    })
+}
+
+/// Takes the scene's declared measurement of the cloth `topology` at `positions` (m).
+pub fn measure_declared(scene: &Scene, topology: &ClothTopology, positions: &[DVec3]) -> Measured {
+    Measured {
+        drape: measure_scene_drape(scene, topology, positions),
+        table: measure_scene_table(scene, topology, positions),
+    }
+}
+
+/// The drape around the declared disk.
+fn measure_scene_drape(
+    scene: &Scene,
+    topology: &ClothTopology,
+    positions: &[DVec3],
+) -> Option<DrapeMeasurement> {
+    let (centre, radius) = declared_disk(scene)?;
+    let (_, flat) = crate::scene::spawn::cloth_grid(scene);
+    // Rows σ/50 apart: the row rule's error is then far below the mesh's (docs/validation.md).
+    let dz = topology.spacing / 50.0;
+    Some(measure_drape(
+        &project(&topology.triangles, positions),
+        &project(&topology.triangles, &flat),
+        centre,
+        radius,
+        dz,
+        2.0 * topology.spacing,
+    ))
+}
+
+/// The hang of the corners and mid-sides below the declared table's top, and the skirt's folds.
+fn measure_scene_table(scene: &Scene, topology: &ClothTopology, positions: &[DVec3]) -> Option<TableHang> {
+    let (centre, half) = declared_table(scene)?;
+    let top = centre[1] + half[1];
+    let nu = topology.grid_coords.iter().map(|&(i, _)| i).max()?;
+    let nv = topology.grid_coords.iter().map(|&(_, j)| j).max()?;
+    let (mu, mv) = (nu / 2, nv / 2);
+    let at = |i: u32, j: u32| {
+        topology
+            .grid_coords
+            .iter()
+            .position(|&c| c == (i, j))
+            .map(|p| top - positions[p].y)
+    };
+    let mean = |pts: [(u32, u32); 4]| -> Option<f64> {
+        let hangs: Option<Vec<f64>> = pts.iter().map(|&(i, j)| at(i, j)).collect();
+        hangs.map(|h| h.iter().sum::<f64>() / 4.0)
+    };
+    let corners = mean([(0, 0), (nu, 0), (0, nv), (nu, nv)])?;
+    let mid_sides = mean([(mu, 0), (0, mv), (nu, mv), (mu, nv)])?;
+    let skirt = measure_skirt(
+        &project(&topology.triangles, positions),
+        DVec2::new(centre[0], centre[2]),
+        DVec2::new(half[0], half[2]),
+        topology.spacing / 50.0,
+        2.0 * topology.spacing,
+    );
+    Some(TableHang {
+        corners,
+        mid_sides,
+        folds: skirt.folds,
+    })
+}

@@ -1,0 +1,116 @@
+//! Running a scene: step the schedule until the cloth settles or the time limit, then take the
+//! measurements the scene declares and write the output files.
+
+mod declared_measures;
+mod run_loop;
+mod run_report;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use bevy_ecs::prelude::*;
+use glam::DVec3;
+
+pub use declared_measures::{Measured, TableHang, declared_disk, measure_declared};
+pub use run_report::{summary, write_outputs};
+
+use crate::checkpoint::{CheckpointError, Snapshot};
+use crate::forces::ClothTopology;
+use crate::measure::DrapeMeasurement;
+use crate::output::{FailureReport, Metrics};
+use crate::scene::Scene;
+
+/// How to run.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Show a progress bar on the terminal.
+    pub progress: bool,
+    /// Write checkpoints (see [`crate::checkpoint`]).
+    pub checkpoint: Option<CheckpointPlan>,
+    /// Set from outside (e.g. by a Ctrl-C handler) to stop the run after the current step; the
+    /// run then writes a checkpoint (with a plan) and returns its partial results.
+    pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+/// Where and how often a run writes its checkpoint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckpointPlan {
+    /// The folder `checkpoint.cbor` is written to (the run's output folder).
+    pub dir: PathBuf,
+    /// Interval in simulated time (s), rounded to whole steps; a checkpoint is also written when
+    /// the run is interrupted.
+    pub every_s: f64,
+}
+
+/// The result of a run: its metrics and the final cloth.
+#[derive(Clone, Debug)]
+pub struct RunOutcome {
+    /// The numbers of `metrics.json`.
+    pub metrics: Metrics,
+    /// The woven grid.
+    pub topology: Arc<ClothTopology>,
+    /// Final node positions (m); finite unless the run failed.
+    pub positions: Vec<DVec3>,
+    /// The drape test's measurement, for scenes that declare `measure: Drape(..)`.
+    pub drape: Option<DrapeMeasurement>,
+    /// Final centre of each of the scene's colliders, in scene order (m): where a thrown ball
+    /// ended up, not where it started.
+    pub collider_centres: Vec<DVec3>,
+    /// The first checkpoint that could not be written, if any (the run went on without it).
+    pub checkpoint_error: Option<String>,
+}
+
+/// A run that stopped on a non-finite value.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "simulation diverged at step {} (t = {:.4} s): particle {}, effect `{}`: {}",
+    .0.step, .0.time_s, .0.particle, .0.effect, .0.message
+)]
+pub struct DivergenceError(pub FailureReport);
+
+/// Simulates `scene` to rest or to its time limit. A failure is recorded in the metrics.
+pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
+    let (world, cloth) = crate::scene::spawn::spawn(scene);
+    run_to_end(scene, world, cloth, options, 0.0)
+}
+
+/// Continues the run whose checkpoint is in `dir` to its end, writing further checkpoints there
+/// at the interval it was started with. Returns the scene (as the checkpoint recorded it) and
+/// the outcome, which is exactly that of the uninterrupted run (wall time aside).
+pub fn resume(dir: &Path, options: &RunOptions) -> Result<(Scene, RunOutcome), CheckpointError> {
+    let snapshot = Snapshot::read(dir)?;
+    let scene = Scene::from_spec(snapshot.scene.clone(), snapshot.scene_path.clone())
+        .map_err(|e| CheckpointError::Scene(Box::new(e)))?;
+    if format!("{:?}", scene.fabric) != snapshot.fabric {
+        return Err(CheckpointError::Mismatch(
+            "the fabric (its file changed since the checkpoint)",
+        ));
+    }
+    let (mut world, cloth) = crate::scene::spawn::spawn(&scene);
+    let every_s = snapshot.every_s;
+    let wall = snapshot.wall_time_s;
+    snapshot.restore(&mut world, cloth)?;
+    let mut options = options.clone();
+    if options.checkpoint.is_none() {
+        options.checkpoint = every_s.map(|every_s| CheckpointPlan {
+            dir: dir.to_path_buf(),
+            every_s,
+        });
+    }
+    let outcome = run_to_end(&scene, world, cloth, &options, wall);
+    Ok((scene, outcome))
+}
+
+/// Steps `world` until the cloth settles, the time limit, a failure or an interrupt, then
+/// measures. `wall_before` (s) is wall time already spent on this run (a resumed one).
+fn run_to_end(
+    scene: &Scene,
+    mut world: World,
+    cloth: Entity,
+    options: &RunOptions,
+    wall_before: f64,
+) -> RunOutcome {
+    let ending = run_loop::RunLoop::new(scene, &mut world, options, wall_before).run(&mut world, cloth);
+    run_loop::collect(scene, &world, cloth, ending)
+}

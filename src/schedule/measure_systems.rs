@@ -1,0 +1,95 @@
+//! Systems of the measure and output phases: what a step did to the cloth.
+
+use bevy_ecs::prelude::*;
+
+use super::cloth_components::{Clock, ClothNodes, ClothState, Failure, Implicit, Physics, SimulationFailure};
+use crate::measure::{
+    Motion, MovingColliders, Progress, RUNAWAY_SPEED, RUNAWAY_STRAIN, SettleState, WorldColliders,
+    max_penetration, runaway_causes,
+};
+
+/// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
+pub fn measure_motion(
+    physics: Res<Physics>,
+    clock: Res<Clock>,
+    mut motion: ResMut<Motion>,
+    mut failure: ResMut<Failure>,
+    mut colliders: Option<ResMut<WorldColliders>>,
+    moving: Option<Res<MovingColliders>>,
+    mut cloths: Query<(&ClothNodes, &mut ClothState, Has<Implicit>)>,
+) {
+    for (nodes, mut state, implicit) in &mut cloths {
+        let state = &mut *state;
+        std::mem::swap(&mut state.positions, &mut state.previous_positions);
+        nodes
+            .0
+            .read(&physics.0, &mut state.positions, &mut state.velocities);
+        let bad = state
+            .positions
+            .iter()
+            .zip(&state.velocities)
+            .position(|(x, v)| !x.is_finite() || !v.is_finite());
+        if let Some(i) = bad {
+            failure.0 = Some(SimulationFailure {
+                step: clock.step,
+                time: clock.time,
+                particle: i,
+                effect: "rapier_step".into(),
+                message: format!(
+                    "node position {:?} m or velocity {:?} m/s is not finite after Rapier's step; \
+                     likely cause: a force or contact too stiff for dt = {} s",
+                    state.positions[i], state.velocities[i], clock.dt
+                ),
+            });
+            return;
+        }
+        let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
+        let now = Motion::of(
+            &state.topology,
+            nodes.0.node_mass,
+            (&state.positions, &state.previous_positions, &state.velocities),
+            clock.dt,
+        );
+        if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
+            failure.0 = Some(SimulationFailure {
+                step: clock.step,
+                time: clock.time,
+                particle: now.fastest_node,
+                // The run loop names the effect pushing hardest on this node.
+                effect: String::from("(runaway)"),
+                message: format!(
+                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; {}",
+                    now.max_speed,
+                    now.max_strain * 100.0,
+                    runaway_causes(implicit, !nodes.0.joints.is_empty(), clock.dt)
+                ),
+            });
+            return;
+        }
+        *motion = now;
+        motion.peak_strain = peak.max(motion.max_strain);
+        if let (Some(colliders), Some(moving)) = (colliders.as_mut(), moving.as_ref()) {
+            for &(k, body) in &moving.0 {
+                if let (Some(b), Some(entry)) = (physics.0.bodies.get(body), colliders.0.get_mut(k)) {
+                    entry.1 = b.translation().as_dvec3();
+                }
+            }
+        }
+        let depth = colliders
+            .as_ref()
+            .map_or(0.0, |c| max_penetration(&c.0, &state.positions).0);
+        motion.peak_penetration = peak_penetration.max(depth);
+    }
+}
+
+/// Phase 4: updates the settle criterion from the cloth's positions.
+pub fn update_settle(clock: Res<Clock>, cloths: Query<&ClothState>, mut settle: ResMut<SettleState>) {
+    for state in &cloths {
+        settle.observe(clock.time, &state.positions);
+    }
+}
+
+/// Phase 5: shows simulated time, fastest node and strain.
+pub fn report_progress(clock: Res<Clock>, motion: Res<Motion>, progress: Res<Progress>) {
+    progress.show(clock.step, clock.time, &motion);
+}
