@@ -43,7 +43,7 @@ fn converge_writes_an_extrapolation_with_its_uncertainty() {
             .all(|r| (r[1].parse::<f64>().unwrap() - 0.0041666667).abs() < 1e-12)
     );
     let dcs: Vec<f64> = rows.iter().map(|r| r[3].parse().unwrap()).collect();
-    let e = kes_cloth::study::richardson::extrapolate(&spacings, &dcs).unwrap();
+    let e = kes_cloth::study::richardson::extrapolate_means(&spacings, &dcs, &[0.0; 3]).unwrap();
     let md = std::fs::read_to_string(out.join("convergence.md")).unwrap();
     assert!(
         md.contains(&format!("{:.4} ± {:.4}", e.value, e.uncertainty)),

@@ -31,7 +31,7 @@ fn a_kick_moves_a_free_node_by_symplectic_euler_at_any_substep_count() {
         );
         let topology = ClothTopology::rectangle(1, 1, 0.01);
         let options = NodeOptions {
-            mass,
+            masses: vec![mass],
             radius: 0.005,
             rope_links: false,
             contact: false,

@@ -12,10 +12,10 @@ pub(crate) const WORLD_GROUP: Group = Group::GROUP_1;
 pub(crate) const CLOTH_GROUP: Group = Group::GROUP_2;
 
 /// How to make the nodes of one cloth.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct NodeOptions {
-    /// Mass of each node (kg): areal density × σ².
-    pub mass: f64,
+    /// Mass of each node (kg), in particle order: areal density × the area it stands for.
+    pub masses: Vec<f64>,
     /// Contact radius of each node's ball (m).
     pub radius: f64,
     /// Link warp/weft neighbours by rope joints at the rest spacing (stretch as a constraint).
@@ -35,8 +35,8 @@ pub struct ClothBodies {
     pub handles: Vec<RigidBodyHandle>,
     /// Rope joints, one per thread link (empty unless stretch is a constraint).
     pub joints: Vec<ImpulseJointHandle>,
-    /// Node mass (kg).
-    pub node_mass: f64,
+    /// Mass of each node (kg), in particle order.
+    pub masses: Vec<f64>,
 }
 
 impl ClothBodies {
@@ -56,7 +56,8 @@ impl ClothBodies {
         let groups = InteractionGroups::new(CLOTH_GROUP, filter, InteractionTestMode::And);
         let handles: Vec<RigidBodyHandle> = positions
             .iter()
-            .map(|p| {
+            .zip(&options.masses)
+            .map(|(p, &mass)| {
                 let body = RigidBodyBuilder::dynamic()
                     .translation(p.as_vec3())
                     .lock_rotations()
@@ -66,7 +67,7 @@ impl ClothBodies {
                 let handle = world.insert_body(body);
                 // Friction 0 with the world's Max rule: the world collider's μ applies as given.
                 let ball = ColliderBuilder::ball(options.radius as f32)
-                    .mass(options.mass as f32)
+                    .mass(mass as f32)
                     .friction(0.0)
                     .collision_groups(groups)
                     .build();
@@ -93,7 +94,7 @@ impl ClothBodies {
         Self {
             handles,
             joints,
-            node_mass: options.mass,
+            masses: options.masses.clone(),
         }
     }
 
@@ -196,10 +197,10 @@ impl ClothBodies {
     /// on a node is cleared.
     pub fn write_forces(&self, world: &mut PhysicsWorld, forces: &[DVec3]) {
         let dt = world.integration_parameters.dt as f64;
-        for (h, f) in self.handles.iter().zip(forces) {
+        for ((h, f), m) in self.handles.iter().zip(forces).zip(&self.masses) {
             if let Some(body) = world.bodies.get_mut(*h) {
                 body.reset_forces(false);
-                let v = body.linvel().as_dvec3() + *f * (dt / self.node_mass);
+                let v = body.linvel().as_dvec3() + *f * (dt / m);
                 body.set_linvel(v.as_vec3(), false);
             }
         }

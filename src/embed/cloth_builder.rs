@@ -9,7 +9,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rapier3d::prelude::*;
 
 use crate::bodies::{ClothBodies, NodeOptions};
-use crate::forces::{ClothTopology, EffectChoice, Effects, StretchModel};
+use crate::forces::{ClothTopology, EffectChoice, Effects, NodeMass, StretchModel};
 use crate::implicit::{ImplicitSolver, Integrator};
 use crate::material::Fabric;
 use crate::schedule::ClothState;
@@ -68,6 +68,7 @@ pub struct ClothBuilder {
     fold_gap: Option<f64>,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
+    node_mass: NodeMass,
     effects: EffectChoice,
     contact: bool,
     self_collision: bool,
@@ -90,6 +91,7 @@ impl ClothBuilder {
             fold_gap: None,
             node_radius: None,
             perturbation: (0.0, 0),
+            node_mass: NodeMass::Uniform,
             effects: EffectChoice {
                 stretch: StretchModel::Constraint,
                 compression_modulus: None,
@@ -160,6 +162,12 @@ impl ClothBuilder {
     /// A seeded random vertical offset of up to `amplitude` (m) on every node.
     pub fn perturbation(mut self, amplitude: f64, seed: u64) -> Self {
         self.perturbation = (amplitude, seed);
+        self
+    }
+
+    /// How the cloth's mass is shared among its nodes (default [`NodeMass::Uniform`]).
+    pub fn node_mass(mut self, rule: NodeMass) -> Self {
+        self.node_mass = rule;
         self
     }
 
@@ -294,9 +302,9 @@ impl ClothBuilder {
             }
         }
         let sigma = topology.spacing;
-        let node_mass = self.fabric.areal_density * sigma * sigma;
+        let masses = topology.node_masses(self.fabric.areal_density, self.node_mass);
         let options = NodeOptions {
-            mass: node_mass,
+            masses: masses.clone(),
             radius: self.node_radius.unwrap_or(sigma / 2.0),
             rope_links: self.effects.stretch == StretchModel::Constraint,
             contact: self.contact,
@@ -319,11 +327,11 @@ impl ClothBuilder {
             }
         }
         ClothParts {
-            effects: Effects::build(&self.effects, &topology, &self.fabric, node_mass),
+            effects: Effects::build(&self.effects, &topology, &self.fabric, &masses),
             implicit: match self.integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => {
-                    let mut solver = ImplicitSolver::new(topology.clone(), node_mass, settings);
+                    let mut solver = ImplicitSolver::with_masses(topology.clone(), masses, settings);
                     for node in held {
                         solver.hold(node);
                     }

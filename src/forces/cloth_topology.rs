@@ -7,6 +7,18 @@
 
 use crate::material::Thread;
 
+/// How the cloth's mass is shared among its nodes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum NodeMass {
+    /// Every node carries ρ_A·σ², a whole cell, outline nodes included (the seed's lumping;
+    /// default): a free edge is heavier than the cloth by half a row of cells.
+    #[default]
+    Uniform,
+    /// Each node carries the cell area it stands for ([`ClothTopology::cell_areas`]): ½σ² on an
+    /// edge, ¼σ² at a corner, so the cloth weighs what its outline holds.
+    CellArea,
+}
+
 /// The springs of a woven particle grid, as flat index arrays.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClothTopology {
@@ -217,6 +229,39 @@ impl ClothTopology {
             Thread::Warp
         } else {
             Thread::Weft
+        }
+    }
+
+    /// The area (m²) each node stands for: its cell of σ × σ around it, halved along a thread
+    /// for each side on which it has no neighbour along that thread (an edge node ½σ², a
+    /// corner ¼σ²). They sum to the area the lattice's links enclose (for a rectangle, the
+    /// specimen's own area), so mass ρ_A·area puts on a free edge the half cell it carries.
+    pub fn cell_areas(&self) -> Vec<f64> {
+        // Per node: links along the warp and along the weft.
+        let mut warp = vec![0u8; self.particle_count];
+        let mut weft = vec![0u8; self.particle_count];
+        for (k, &[p, q]) in self.links.iter().enumerate() {
+            let count = if k < self.warp_link_count {
+                &mut warp
+            } else {
+                &mut weft
+            };
+            count[p as usize] += 1;
+            count[q as usize] += 1;
+        }
+        // A node with no link along a thread (a lone column) keeps half a cell that way.
+        let fraction = |links: u8| f64::from(links.clamp(1, 2)) / 2.0;
+        warp.iter()
+            .zip(&weft)
+            .map(|(&u, &v)| self.spacing * self.spacing * fraction(u) * fraction(v))
+            .collect()
+    }
+
+    /// Each node's mass (kg) for a fabric of `areal_density` (kg/m²) under `rule`.
+    pub fn node_masses(&self, areal_density: f64, rule: NodeMass) -> Vec<f64> {
+        match rule {
+            NodeMass::Uniform => vec![areal_density * self.spacing * self.spacing; self.particle_count],
+            NodeMass::CellArea => self.cell_areas().iter().map(|a| areal_density * a).collect(),
         }
     }
 

@@ -96,14 +96,14 @@ impl EffectKind {
     }
 
     /// The effect's generator for a cloth of `topology` and `fabric` whose nodes weigh
-    /// `node_mass` (kg), if `choice` asks for it: this is the effect's run condition, since an
+    /// `masses` (kg, in particle order), if `choice` asks for it: this is the effect's run condition, since an
     /// effect that is not built never runs.
     pub fn build(
         self,
         choice: &EffectChoice,
         topology: &Arc<ClothTopology>,
         fabric: &Fabric,
-        node_mass: f64,
+        masses: &[f64],
     ) -> Option<Box<dyn ForceGenerator>> {
         let t = topology.clone();
         let sigma = topology.spacing;
@@ -122,7 +122,7 @@ impl EffectKind {
                     .unwrap_or_else(|| LinkCompression::default_modulus(fabric, sigma));
                 Box::new(LinkCompression::new(t, modulus))
             }
-            EffectKind::Damping => Box::new(LinkDamping::new(t, choice.damping?, node_mass)),
+            EffectKind::Damping => Box::new(LinkDamping::with_masses(t, choice.damping?, masses)),
             EffectKind::AirDrag => Box::new(AirDrag::new(choice.air_drag?, sigma)),
             EffectKind::Hysteresis if choice.hysteresis && (choice.bending || choice.trellising) => {
                 Box::new(Hysteresis::new(t, fabric, choice.bending, choice.trellising))
@@ -146,12 +146,12 @@ impl Effects {
         choice: &EffectChoice,
         topology: &Arc<ClothTopology>,
         fabric: &Fabric,
-        node_mass: f64,
+        masses: &[f64],
     ) -> Self {
         Self(
             EffectKind::ALL
                 .iter()
-                .filter_map(|k| k.build(choice, topology, fabric, node_mass))
+                .filter_map(|k| k.build(choice, topology, fabric, masses))
                 .collect(),
         )
     }
@@ -283,7 +283,7 @@ mod tests {
                 hysteresis: true,
             };
             for kind in EffectKind::ALL {
-                if let Some(g) = kind.build(&choice, &topology, &fabric, 1e-3) {
+                if let Some(g) = kind.build(&choice, &topology, &fabric, &[1e-3; 16]) {
                     assert_eq!(g.effect(), kind.name());
                 }
             }

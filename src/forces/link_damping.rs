@@ -18,16 +18,36 @@ use super::{ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatri
 #[derive(Clone, Debug)]
 pub struct LinkDamping {
     topology: Arc<ClothTopology>,
-    /// c, damping coefficient per link (N·s/m).
-    coefficient: f64,
+    /// c of each link (N·s/m).
+    coefficients: Vec<f64>,
 }
 
 impl LinkDamping {
     /// Damping at `rate` (1/s) for nodes of mass `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, rate: f64, node_mass: f64) -> Self {
+        let masses = vec![node_mass; topology.particle_count];
+        Self::with_masses(topology, rate, &masses)
+    }
+
+    /// Damping at `rate` (1/s) for nodes of `masses` (kg, in particle order): each link's c is
+    /// `rate` times its pair's reduced mass m_p·m_q/(m_p + m_q), so every isolated pair's
+    /// relative velocity decays at `rate` (c = rate·m/2 for equal masses).
+    pub fn with_masses(topology: Arc<ClothTopology>, rate: f64, masses: &[f64]) -> Self {
+        let coefficients = topology
+            .links
+            .iter()
+            .map(|&[p, q]| {
+                let (a, b) = (masses[p as usize], masses[q as usize]);
+                if a == b {
+                    0.5 * rate * a
+                } else {
+                    rate * a * b / (a + b)
+                }
+            })
+            .collect();
         Self {
             topology,
-            coefficient: 0.5 * rate * node_mass,
+            coefficients,
         }
     }
 }
@@ -43,24 +63,27 @@ impl ForceGenerator for LinkDamping {
     }
 
     fn add_forces(&self, _geometry: &ClothGeometry, velocities: &[DVec3], forces: &mut ForceBuffer) {
-        let c = self.coefficient;
-        for (&[p, q], f) in self.topology.links.iter().zip(&mut forces.link) {
-            *f -= c * (velocities[q as usize] - velocities[p as usize]);
+        for ((&[p, q], f), c) in self
+            .topology
+            .links
+            .iter()
+            .zip(&mut forces.link)
+            .zip(&self.coefficients)
+        {
+            *f -= *c * (velocities[q as usize] - velocities[p as usize]);
         }
     }
 
     /// C·δv: each link's relative velocity change times c.
     fn add_damping_product(&self, dv: &Perturbation, scale: f64, out: &mut ForceBuffer) {
-        let c = scale * self.coefficient;
-        for (o, d) in out.link.iter_mut().zip(&dv.link) {
-            *o += c * *d;
+        for ((o, d), c) in out.link.iter_mut().zip(&dv.link).zip(&self.coefficients) {
+            *o += scale * *c * *d;
         }
     }
 
     fn add_damping_blocks(&self, scale: f64, matrix: &mut LinkMatrix) {
-        let c = glam::DMat3::from_diagonal(DVec3::splat(scale * self.coefficient));
-        for block in &mut matrix.link {
-            *block += c;
+        for (block, c) in matrix.link.iter_mut().zip(&self.coefficients) {
+            *block += glam::DMat3::from_diagonal(DVec3::splat(scale * *c));
         }
     }
 }

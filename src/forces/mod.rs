@@ -47,7 +47,7 @@ pub use air_drag::AirDrag;
 pub use bending::Bending;
 pub use cloth_geometry::ClothGeometry;
 pub(crate) use cloth_geometry::cos_angle_gradients;
-pub use cloth_topology::{ClothTopology, SignedLink};
+pub use cloth_topology::{ClothTopology, NodeMass, SignedLink};
 pub use effects::{EffectChoice, EffectKind, EffectStates, Effects, StretchModel};
 pub(crate) use element_stiffness::outer;
 pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};

@@ -67,8 +67,8 @@ pub struct ImplicitSolver {
     topology: Arc<ClothTopology>,
     /// Solver settings.
     pub settings: ImplicitSettings,
-    /// Node mass (kg).
-    node_mass: f64,
+    /// Mass of each node (kg), in particle order.
+    masses: Vec<f64>,
     /// Last step's Δv (m/s): the warm start.
     dv: Vec<DVec3>,
     rhs: Vec<DVec3>,
@@ -152,11 +152,17 @@ impl ImplicitSolver {
 
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
+        let masses = vec![node_mass; topology.particle_count];
+        Self::with_masses(topology, masses, settings)
+    }
+
+    /// A solver for a cloth of `topology` whose nodes have `masses` (kg, in particle order).
+    pub fn with_masses(topology: Arc<ClothTopology>, masses: Vec<f64>, settings: ImplicitSettings) -> Self {
         let n = topology.particle_count;
         let matrix = LinkMatrix::new(&topology);
         Self {
             settings,
-            node_mass,
+            masses,
             dv: vec![DVec3::ZERO; n],
             rhs: vec![DVec3::ZERO; n],
             scratch: std::array::from_fn(|_| vec![DVec3::ZERO; n]),
@@ -232,7 +238,7 @@ impl ImplicitSolver {
                 *support = *touch;
             }
         }
-        let (topo, m) = (&*self.topology, self.node_mass);
+        let (topo, masses) = (&*self.topology, &self.masses);
         let (pert, product, matrix) = (&mut self.perturbation, &mut self.product, &mut self.matrix);
         // Assemble h²·H, and with it b = h·F − h²·H·v (h·M·g is added below); then add h·C.
         matrix.clear();
@@ -245,14 +251,15 @@ impl ImplicitSolver {
         // Our stiff response then balances the cloth's weight where the cloth's constraints do:
         // solved without it, a cloth at rest ends where F = −(M + h²H)·g, as if it weighed
         // (M + h²H)/M times more in its stiff modes (docs/model.md §12).
-        let weight = m * gravity;
-        for ((b, f), hv) in self.unfiltered_rhs.iter_mut().zip(&*forces).zip(hv) {
-            *b = h * *f - *hv + h * weight;
+        for (((b, f), hv), m) in self.unfiltered_rhs.iter_mut().zip(&*forces).zip(hv).zip(masses) {
+            *b = h * *f - *hv + h * (*m * gravity);
         }
         for g in generators.iter().flatten() {
             g.add_damping_blocks(h, matrix);
         }
-        self.diagonal.fill(DMat3::from_diagonal(DVec3::splat(m)));
+        for (d, m) in self.diagonal.iter_mut().zip(masses) {
+            *d = DMat3::from_diagonal(DVec3::splat(*m));
+        }
         matrix.add_particle_diagonal(topo, &mut self.diagonal);
         // Static friction: every node a surface supports starts the step held (unless it is
         // still sliding, below); a hold whose impulse leaves the friction cone is released
@@ -289,10 +296,10 @@ impl ImplicitSolver {
         self.rows.assemble(matrix);
         let (rows, ax) = (&self.rows, &mut self.ax);
         // The error δv = A⁻¹·r has |r|_P² ≈ rᵀ·A⁻¹·r = δvᵀ·A·δv ≥ Σ m·|δv|², so a residual below
-        // √(N·m)·ε leaves a mass-weighted RMS velocity error below about ε.
+        // √(Σm)·ε leaves a mass-weighted RMS velocity error below about ε.
         let stop = Stop {
             relative: self.settings.tolerance,
-            absolute: self.settings.velocity_tolerance * (m * topo.particle_count as f64).sqrt(),
+            absolute: self.settings.velocity_tolerance * total_mass(masses).sqrt(),
             max_iterations: self.settings.max_iterations,
         };
         let mut report = CgReport::default();
@@ -330,8 +337,14 @@ impl ImplicitSolver {
             }
             if any_prescribed {
                 rows.product(&self.prescribed, ax);
-                for ((b, az), z) in self.rhs.iter_mut().zip(ax.iter()).zip(&self.prescribed) {
-                    *b -= m * *z + *az;
+                for (((b, az), z), m) in self
+                    .rhs
+                    .iter_mut()
+                    .zip(ax.iter())
+                    .zip(&self.prescribed)
+                    .zip(masses)
+                {
+                    *b -= *m * *z + *az;
                 }
             }
             for (i, b) in self.rhs.iter_mut().enumerate() {
@@ -351,7 +364,8 @@ impl ImplicitSolver {
                     block.inverse()
                 } else {
                     let plane = DMat3::IDENTITY - outer(n, n);
-                    let free = plane * (*block + self.sliding_drag[i] * plane) * plane + m * outer(n, n);
+                    let free =
+                        plane * (*block + self.sliding_drag[i] * plane) * plane + masses[i] * outer(n, n);
                     plane * free.inverse() * plane
                 };
             }
@@ -359,7 +373,7 @@ impl ImplicitSolver {
             let apply = |x: &[DVec3], out: &mut [DVec3]| {
                 rows.product(x, out);
                 for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
-                    *o = filter(i, m * *x + *o + drag(i, *x));
+                    *o = filter(i, masses[i] * *x + *o + drag(i, *x));
                 }
             };
             let precondition = |r: &[DVec3], z: &mut [DVec3]| {
@@ -390,7 +404,7 @@ impl ImplicitSolver {
             let mut released = false;
             for (i, pressed) in self.pressed.iter_mut().enumerate() {
                 let n = normals[i];
-                let impulse = m * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
+                let impulse = masses[i] * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
                 let normal = impulse.dot(n);
                 *pressed = n != DVec3::ZERO && normal >= 0.0;
                 let holding = self.fixed[i] && !self.held[i];
@@ -425,7 +439,8 @@ impl ImplicitSolver {
         // the solve, the solve's surface has carried the whole weight and the friction: Rapier's
         // contact, left with nothing to stop, adds no friction of its own.
         for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
-            let n = normals[i];
+            let (n, m) = (normals[i], masses[i]);
+            let weight = m * gravity;
             let carried = if self.friction && n != DVec3::ZERO && !self.held[i] {
                 weight
             } else {
@@ -456,6 +471,14 @@ fn filter(n: DVec3, fixed: bool, v: DVec3) -> DVec3 {
 /// `v` with its component along the unit normal `n` removed (`v` itself for `n` = 0).
 fn tangential(n: DVec3, v: DVec3) -> DVec3 {
     v - n.dot(v) * n
+}
+
+/// Σm (kg), as N·m exactly when every node weighs the same.
+fn total_mass(masses: &[f64]) -> f64 {
+    match masses.first() {
+        Some(&m) if masses.iter().all(|&x| x == m) => m * masses.len() as f64,
+        _ => masses.iter().sum(),
+    }
 }
 
 /// Below this tangential speed (m/s), a sliding node's kinetic friction is a drag

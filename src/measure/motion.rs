@@ -54,11 +54,11 @@ pub fn link_strains<'a>(
 }
 
 impl Motion {
-    /// The motion of nodes of `node_mass` (kg) at `positions` (m) with `velocities` (m/s), which
+    /// The motion of nodes of `masses` (kg) at `positions` (m) with `velocities` (m/s), which
     /// were at `previous` (m) one step `dt` (s) earlier, on the grid `topology`.
     pub fn of(
         topology: &ClothTopology,
-        node_mass: f64,
+        masses: &[f64],
         (positions, previous, velocities): (&[DVec3], &[DVec3], &[DVec3]),
         dt: f64,
     ) -> Self {
@@ -66,13 +66,13 @@ impl Motion {
             min_height: f64::INFINITY,
             ..Default::default()
         };
-        for (i, (x, v)) in positions.iter().zip(velocities).enumerate() {
+        for (i, ((x, v), mass)) in positions.iter().zip(velocities).zip(masses).enumerate() {
             let speed = v.length();
             if speed > m.max_speed {
                 m.max_speed = speed;
                 m.fastest_node = i;
             }
-            m.kinetic_energy += 0.5 * node_mass * speed * speed;
+            m.kinetic_energy += 0.5 * mass * speed * speed;
             m.min_height = m.min_height.min(x.y);
         }
         m.max_step_speed = positions

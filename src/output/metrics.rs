@@ -96,6 +96,14 @@ pub struct Metrics {
     pub hang_mid_sides_m: Option<f64>,
     /// Tablecloths: folds of the skirt around the table (see `measure/drape.rs`).
     pub skirt_folds: Option<u32>,
+    /// Cantilever test: the chord from the clamp's edge to the free end, below the horizontal
+    /// (degrees).
+    #[serde(default)]
+    pub cantilever_chord_deg: Option<f64>,
+    /// Cantilever test: the heavy elastica's exact chord angle for the fabric's warp bending
+    /// rigidity, its weight and the same overhang (degrees).
+    #[serde(default)]
+    pub cantilever_exact_deg: Option<f64>,
     /// `"Explicit"` or `"Implicit"`: how our forces were integrated.
     pub integrator: String,
     /// Implicit runs: conjugate-gradient products per step, averaged over the run.

@@ -17,6 +17,15 @@ pub struct TableHang {
     pub folds: u32,
 }
 
+/// A cantilever strip's bend.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CantileverBend {
+    /// The chord from the clamp's edge to the free end, below the horizontal (rad).
+    pub chord: f64,
+    /// The heavy elastica's exact chord for the same fabric, weight and overhang (rad).
+    pub exact: f64,
+}
+
 /// What a settled run measured, as its scene declared.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Measured {
@@ -24,6 +33,8 @@ pub struct Measured {
     pub drape: Option<DrapeMeasurement>,
     /// The tablecloth's hang, for `measure: Tablecloth(..)`.
     pub table: Option<TableHang>,
+    /// The cantilever test, for `measure: Cantilever`.
+    pub cantilever: Option<CantileverBend>,
 }
 
 /// Centre (x, z) (m) and radius (m) of the drapemeter disk `measure: Drape(disk: ..)` names.
@@ -55,7 +66,37 @@ pub fn measure_declared(scene: &Scene, topology: &ClothTopology, positions: &[DV
     Measured {
         drape: measure_scene_drape(scene, topology, positions),
         table: measure_scene_table(scene, topology, positions),
+        cantilever: measure_cantilever(scene, positions),
     }
+}
+
+/// The chord angle of a strip held by `cloth.clamp_m`, from the clamp's edge (the flat layout's
+/// −warp end plus the clamp length, at the held nodes' height) to the mean of the free end's
+/// nodes (those farthest along the warp in the flat layout), and the heavy elastica's.
+fn measure_cantilever(scene: &Scene, positions: &[DVec3]) -> Option<CantileverBend> {
+    if scene.spec.measure != MeasureSpec::Cantilever {
+        return None;
+    }
+    let (_, flat) = crate::scene::spawn::cloth_grid(scene);
+    let warp = scene.warp_direction();
+    let along: Vec<f64> = flat.iter().map(|p| p.dot(warp)).collect();
+    let start = along.iter().copied().fold(f64::INFINITY, f64::min);
+    let end = along.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let tolerance = 1e-6 * scene.spec.cloth.spacing_m;
+    let tip: Vec<usize> = (0..flat.len()).filter(|&k| along[k] >= end - tolerance).collect();
+    let held = scene.clamped_nodes();
+    let mean =
+        |nodes: &[usize], of: &[DVec3]| nodes.iter().map(|&k| of[k]).sum::<DVec3>() / nodes.len() as f64;
+    let (root, free) = (mean(&held, positions), mean(&tip, positions));
+    let edge = start + scene.spec.cloth.clamp_m;
+    let reach = free.dot(warp) - edge;
+    let chord = (root.y - free.y).atan2(reach);
+    let overhang = end - edge;
+    let gravity = DVec3::from_array(scene.spec.world.gravity_m_per_s2).length();
+    let rigidity = scene.fabric.bending(crate::material::Thread::Warp).rigidity;
+    let c = (rigidity / (scene.fabric.areal_density * gravity)).cbrt();
+    let exact = crate::study::heavy_elastica::heavy_elastica(overhang / c)?.chord_angle();
+    Some(CantileverBend { chord, exact })
 }
 
 /// The drape around the declared disk.

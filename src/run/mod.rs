@@ -12,7 +12,7 @@ use std::sync::atomic::AtomicBool;
 use bevy_ecs::prelude::*;
 use glam::DVec3;
 
-pub use declared_measures::{Measured, TableHang, declared_disk, measure_declared};
+pub use declared_measures::{CantileverBend, Measured, TableHang, declared_disk, measure_declared};
 pub use run_report::{summary, write_outputs};
 
 use crate::checkpoint::{CheckpointError, Snapshot};

@@ -227,6 +227,8 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
     metrics.hang_corners_m = measured.table.map(|t| t.corners);
     metrics.hang_mid_sides_m = measured.table.map(|t| t.mid_sides);
     metrics.skirt_folds = measured.table.map(|t| t.folds);
+    metrics.cantilever_chord_deg = measured.cantilever.map(|c| c.chord.to_degrees());
+    metrics.cantilever_exact_deg = measured.cantilever.map(|c| c.exact.to_degrees());
     RunOutcome {
         metrics,
         topology,
@@ -287,6 +289,8 @@ fn run_metrics(
         hang_corners_m: None,
         hang_mid_sides_m: None,
         skirt_folds: None,
+        cantilever_chord_deg: None,
+        cantilever_exact_deg: None,
         effects: ledger
             .entries
             .iter()

@@ -128,6 +128,12 @@ pub fn summary(outcome: &RunOutcome) -> String {
         };
         s += &format!("  drape coefficient {dc:.3}, {n} nodes{tag}\n");
     }
+    if let (Some(chord), Some(exact)) = (m.cantilever_chord_deg, m.cantilever_exact_deg) {
+        s += &format!(
+            "  cantilever chord {chord:.2}° below the horizontal; the heavy elastica's {exact:.2}° ({:+.2}°)\n",
+            chord - exact
+        );
+    }
     if let (Some(c), Some(side), Some(f)) = (m.hang_corners_m, m.hang_mid_sides_m, m.skirt_folds) {
         s += &format!(
             "  hang: corners {:.1} mm, mid-sides {:.1} mm; {f} skirt folds\n",

@@ -125,6 +125,29 @@ impl Scene {
             .collect()
     }
 
+    /// Unit vector along the warp of the flat cloth.
+    pub fn warp_direction(&self) -> glam::DVec3 {
+        let angle = self.spec.cloth.warp_angle_deg.to_radians();
+        glam::DVec3::new(angle.cos(), 0.0, -angle.sin())
+    }
+
+    /// The nodes `cloth.clamp_m` holds: those of the flat layout within that distance of the
+    /// cloth's −warp end (none for 0).
+    pub fn clamped_nodes(&self) -> Vec<usize> {
+        let clamp = self.spec.cloth.clamp_m;
+        if clamp <= 0.0 {
+            return Vec::new();
+        }
+        let (_, flat) = spawn::cloth_grid(self);
+        let warp = self.warp_direction();
+        let along: Vec<f64> = flat.iter().map(|p| p.dot(warp)).collect();
+        let start = along.iter().copied().fold(f64::INFINITY, f64::min);
+        let tolerance = 1e-6 * self.spec.cloth.spacing_m;
+        (0..flat.len())
+            .filter(|&k| along[k] - start <= clamp + tolerance)
+            .collect()
+    }
+
     fn check_pins(&self) -> Result<(), (String, String, String)> {
         let (_, flat) = spawn::cloth_grid(self);
         let sigma = self.spec.cloth.spacing_m;
@@ -155,10 +178,11 @@ impl Scene {
 }
 
 /// The explicit step limit of every effect the scene asks for, tightest first
-/// (`forces::explicit_step_limits`).
+/// (`forces::explicit_step_limits`). With `cloth.node_mass: CellArea` an edge node carries half
+/// a cell against an interior node's stiffness along the edge, so every limit is √2 shorter.
 pub(crate) fn step_limits(spec: &SceneFile, fabric: &Fabric) -> Vec<crate::forces::StepLimit> {
     let fx = &spec.effects;
-    crate::forces::explicit_step_limits(
+    let mut limits = crate::forces::explicit_step_limits(
         fabric,
         spec.cloth.spacing_m,
         fx.bending,
@@ -166,7 +190,13 @@ pub(crate) fn step_limits(spec: &SceneFile, fabric: &Fabric) -> Vec<crate::force
         fx.hysteresis,
         fx.stretch,
         fx.compression_modulus_n_per_m,
-    )
+    );
+    if spec.cloth.node_mass == crate::forces::NodeMass::CellArea {
+        for limit in &mut limits {
+            limit.max_step /= std::f64::consts::SQRT_2;
+        }
+    }
+    limits
 }
 
 /// The stability guard: an explicit step longer than the tightest limit of the scene's effects

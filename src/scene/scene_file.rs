@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::forces::StretchModel;
+pub use crate::forces::{NodeMass, StretchModel};
 use crate::material::KesFabric;
 
 /// The schema version this build reads.
@@ -82,6 +82,17 @@ pub struct ClothSpec {
     /// must lie within one spacing of a node.
     #[serde(default)]
     pub pins_m: Vec<[f64; 3]>,
+    /// How the cloth's mass is shared among its nodes: `Uniform` (default: ρ_A·σ² each, outline
+    /// nodes included) or `CellArea` (the cell area each node stands for: ½σ² on an edge, ¼σ² at
+    /// a corner; `docs/model.md` §1).
+    #[serde(default)]
+    pub node_mass: NodeMass,
+    /// Length (m) of the strip's root held as by a clamp: every node of the flat cloth within
+    /// this distance of its −warp end is pinned where it lies (default 0: none). The cantilever
+    /// test (`measure: Cantilever`) reads its angle from the clamp's edge; use a multiple of the
+    /// spacing so that a row of nodes lies on the edge.
+    #[serde(default)]
+    pub clamp_m: f64,
     /// Contact radius of each node (m; default half the spacing). Node centres rest on the true
     /// collider surfaces: colliders are shrunk by this radius (see `docs/rapier.md`).
     #[serde(default)]
@@ -144,6 +155,11 @@ pub enum MeasureSpec {
         /// Name of the table's collider.
         table: String,
     },
+    /// The cantilever bending test (BS 3356, ASTM D1388) on a strip whose root is held by
+    /// `cloth.clamp_m`: the angle of the chord from the clamp's edge to the free (+warp) end
+    /// below the horizontal, beside the heavy elastica's exact angle for the fabric's warp
+    /// bending rigidity and the same overhang.
+    Cantilever,
 }
 
 /// The rigid world.

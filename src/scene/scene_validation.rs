@@ -150,6 +150,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             "applies to circular cloths only: a rectangle's lattice fills its outline",
         ));
     }
+    in_closed(
+        "cloth.clamp_m",
+        c.clamp_m,
+        0.0,
+        warp / 2.0,
+        "m (at most half the cloth's length along the warp)",
+    )?;
     let radius = c.node_radius_m.unwrap_or(c.spacing_m / 2.0);
     if let Some(r) = c.node_radius_m {
         in_open_closed(
@@ -345,6 +352,17 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
 fn validate_measure(s: &SceneFile) -> Result<(), Violation> {
     let (field, name, shape_ok, shape): (_, _, fn(&ColliderShape) -> bool, _) = match &s.measure {
         MeasureSpec::None => return Ok(()),
+        MeasureSpec::Cantilever => {
+            return if s.cloth.clamp_m > 0.0 && !matches!(s.cloth.shape, ClothShape::Circle { .. }) {
+                Ok(())
+            } else {
+                Err(violation(
+                    "measure",
+                    "Cantilever",
+                    "needs a `Rectangle` or `Square` strip with its root held (`cloth.clamp_m` > 0)",
+                ))
+            };
+        }
         MeasureSpec::Drape { disk } => (
             "measure.disk",
             disk,

@@ -39,6 +39,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .fold(c.fold_gap_m)
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)
+        .node_mass(c.node_mass)
         .stretch(fx.stretch)
         .compression_modulus(fx.compression_modulus_n_per_m)
         .bending_and_trellising(fx.bending, fx.trellising)
@@ -124,7 +125,7 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
     }
     let mut builder = cloth_builder(scene);
     let (topology, flat) = builder.grid();
-    for node in scene.pinned_nodes() {
+    for node in scene.pinned_nodes().into_iter().chain(scene.clamped_nodes()) {
         let anchor = physics.insert_body(RigidBodyBuilder::fixed().translation(flat[node].as_vec3()));
         builder = builder.pin(topology.grid_coords[node], anchor, glam::Vec3::ZERO);
     }

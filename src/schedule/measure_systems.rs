@@ -46,7 +46,7 @@ pub fn measure_motion(
         let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
         let now = Motion::of(
             &state.topology,
-            nodes.0.node_mass,
+            &nodes.0.masses,
             (&state.positions, &state.previous_positions, &state.velocities),
             clock.dt,
         );

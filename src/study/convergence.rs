@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use super::richardson::{Extrapolation, extrapolate};
+use super::richardson::{Extrapolation, extrapolate_means};
 use super::{aggregate, placed_runs};
 use crate::output::Metrics;
 use crate::repeat::simulate_all;
@@ -54,6 +54,8 @@ pub struct Convergence {
     pub drape_coefficient: Option<Extrapolation>,
     /// The corner hang extrapolated to σ → 0 (m; tablecloth scenes).
     pub hang_corners_m: Option<Extrapolation>,
+    /// The cantilever chord angle extrapolated to σ → 0 (degrees; cantilever scenes).
+    pub cantilever_chord_deg: Option<Extrapolation>,
 }
 
 impl Convergence {
@@ -142,19 +144,23 @@ pub fn run_convergence(
             }
         })
         .collect();
-    let fit = |value: fn(&Metrics) -> Option<f64>| {
+    let fit = |value: fn(&Metrics) -> Option<f64>, standard_error: &dyn Fn(&ConvergenceRow) -> f64| {
         let values: Option<Vec<f64>> = rows
             .iter()
             .map(|r| value(&r.metrics).filter(|_| r.metrics.failure.is_none()))
             .collect();
-        extrapolate(&spacings, &values?)
+        let errors: Vec<f64> = rows.iter().map(standard_error).collect();
+        extrapolate_means(&spacings, &values?, &errors)
     };
+    // A DC mean's standard error over its placements; the corner hang is a single run's.
+    let dc_error = |r: &ConvergenceRow| r.dc_std.unwrap_or(0.0) / (group as f64).sqrt();
     Ok(Convergence {
         scene: scene.spec.name.clone(),
         placements: group,
         step_exponent: exponent,
-        drape_coefficient: fit(|m| m.drape_coefficient),
-        hang_corners_m: fit(|m| m.hang_corners_m),
+        drape_coefficient: fit(|m| m.drape_coefficient, &dc_error),
+        hang_corners_m: fit(|m| m.hang_corners_m, &|_| 0.0),
+        cantilever_chord_deg: fit(|m| m.cantilever_chord_deg, &|_| 0.0),
         rows,
     })
 }

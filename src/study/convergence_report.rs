@@ -28,11 +28,15 @@ fn judged(c: &Convergence) -> Option<(&'static str, Extrapolation, ValueOf)> {
     if let Some(e) = c.drape_coefficient {
         return Some(("drape coefficient", e, |r| r.metrics.drape_coefficient));
     }
+    if let Some(e) = c.cantilever_chord_deg {
+        return Some(("cantilever chord (deg)", e, |r| r.metrics.cantilever_chord_deg));
+    }
     c.hang_corners_m.map(|e| {
         let mm = Extrapolation {
             value: e.value * 1e3,
             uncertainty: e.uncertainty * 1e3,
             finest_error: e.finest_error * 1e3,
+            noise: e.noise * 1e3,
             order: e.order,
         };
         (
@@ -57,21 +61,26 @@ pub fn extrapolation_line(c: &Convergence) -> String {
             "no order observed (the spacings are not in the asymptotic range: refine further)".to_string()
         }
     };
+    let noise = if e.noise > 0.0 {
+        format!("; ±{:.4} of the band is the scatter over placements", e.noise)
+    } else {
+        String::new()
+    };
     format!(
-        "{what} extrapolated to σ → 0: {:.4} ± {:.4} ({order}; the finest run is {:.4} from it)",
+        "{what} extrapolated to σ → 0: {:.4} ± {:.4} ({order}; the finest spacing is {:.4} from it{noise})",
         e.value, e.uncertainty, e.finest_error
     )
 }
 
 fn csv_text(c: &Convergence) -> String {
     let mut s = String::from(
-        "spacing_m,dt_s,particles,drape_coefficient,dc_std,nodes,hang_corners_m,skirt_folds,settled,wall_time_s,failed\n",
+        "spacing_m,dt_s,particles,drape_coefficient,dc_std,nodes,hang_corners_m,skirt_folds,cantilever_chord_deg,cantilever_exact_deg,settled,wall_time_s,failed\n",
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
     for r in &c.rows {
         let m = &r.metrics;
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             r.spacing_m,
             r.dt_s,
             m.particles,
@@ -80,6 +89,8 @@ fn csv_text(c: &Convergence) -> String {
             m.nodes.map_or(String::new(), |n| n.to_string()),
             opt(m.hang_corners_m),
             m.skirt_folds.map_or(String::new(), |n| n.to_string()),
+            opt(m.cantilever_chord_deg),
+            opt(m.cantilever_exact_deg),
             m.settled,
             m.wall_time_s,
             m.failure.is_some()
@@ -93,8 +104,8 @@ fn markdown(c: &Convergence) -> String {
         "# Convergence of `{}` in the node spacing\n\n{} run(s) per spacing; step ∝ σ^{}.\n\n",
         c.scene, c.placements, c.step_exponent
     );
-    s += "| spacing (mm) | step (ms) | particles | DC | nodes | corner hang (mm) | folds | settled | wall (s) |\n";
-    s += "|---|---|---|---|---|---|---|---|---|\n";
+    s += "| spacing (mm) | step (ms) | particles | DC | nodes | corner hang (mm) | folds | cantilever chord (exact) | settled | wall (s) |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|\n";
     for r in &c.rows {
         let m = &r.metrics;
         let dc = match (m.drape_coefficient, r.dc_std) {
@@ -103,7 +114,7 @@ fn markdown(c: &Convergence) -> String {
             _ => "–".to_string(),
         };
         s += &format!(
-            "| {:.3} | {:.5} | {} | {dc} | {} | {} | {} | {} | {:.1} |\n",
+            "| {:.3} | {:.5} | {} | {dc} | {} | {} | {} | {} | {} | {:.1} |\n",
             r.spacing_m * 1e3,
             r.dt_s * 1e3,
             m.particles,
@@ -111,6 +122,10 @@ fn markdown(c: &Convergence) -> String {
             m.hang_corners_m
                 .map_or("–".to_string(), |h| format!("{:.1}", h * 1e3)),
             m.skirt_folds.map_or("–".to_string(), |n| n.to_string()),
+            match (m.cantilever_chord_deg, m.cantilever_exact_deg) {
+                (Some(a), Some(e)) => format!("{a:.2}° ({e:.2}°)"),
+                _ => "–".to_string(),
+            },
             if m.failure.is_some() {
                 "failed"
             } else if m.settled {
@@ -134,7 +149,8 @@ fn markdown(c: &Convergence) -> String {
     }
     s += "\nMethod: Richardson extrapolation on the finest three spacings, uncertainty by the grid \
           convergence index (safety factor 1.25 with an observed order in [0.5, 4], else 3 times \
-          the largest change between neighbouring spacings); `docs/accuracy.md`.\n";
+          the largest change between neighbouring spacings), and twice the propagated standard \
+          error of the means over placements, in quadrature; `docs/accuracy.md`.\n";
     s
 }
 
@@ -214,6 +230,16 @@ fn plot(c: &Convergence, path: &Path) -> Result<(), PlotError> {
                 .label(format!("f₀ + C·σ^{p:.2}"))
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLUE.mix(0.6)));
         }
+    }
+    // An analytic reference, where the scene has one (the cantilever's heavy elastica).
+    if let Some(exact) = c.rows.iter().find_map(|r| r.metrics.cantilever_exact_deg) {
+        chart
+            .draw_series(LineSeries::new(
+                [(0.0, exact), (x_max, exact)],
+                GREEN.stroke_width(2),
+            ))?
+            .label(format!("exact (heavy elastica): {exact:.2}"))
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], GREEN.stroke_width(2)));
     }
     chart
         .draw_series(

@@ -13,6 +13,11 @@
 //! spacings are not in the asymptotic range: no order is claimed, and the uncertainty is
 //! Fs = 3 times the largest change between neighbouring spacings, with f₀ the finest value.
 //! With more than three spacings, the finest three decide; the others show the trend.
+//!
+//! When each value is a mean over runs that scatter (lattice placements, seeds), its standard
+//! error enters too ([`extrapolate_means`]): propagated through f₀ = f₃ + (f₃ − f₂)/(rᵖ − 1)
+//! (or f₀ = f₃ without an order) and doubled (about 95 % coverage), it is added to the
+//! discretisation uncertainty in quadrature.
 
 /// Safety factor of the grid convergence index for a trustworthy observed order.
 pub const SAFETY_ORDER_OBSERVED: f64 = 1.25;
@@ -33,6 +38,8 @@ pub struct Extrapolation {
     pub uncertainty: f64,
     /// The estimated error of the finest run, |f₃ − f₀| (same unit).
     pub finest_error: f64,
+    /// The part of `uncertainty` from the scatter of the means (same unit; 0 for single runs).
+    pub noise: f64,
 }
 
 /// Extrapolates `values` measured at `spacings` (m, any order, at least three distinct).
@@ -63,6 +70,7 @@ pub fn extrapolate(spacings: &[f64], values: &[f64]) -> Option<Extrapolation> {
         value: f3,
         uncertainty: SAFETY_NO_ORDER * largest_step,
         finest_error: 0.0,
+        noise: 0.0,
     };
     let (d12, d23) = (f1 - f2, f2 - f3);
     if d23 == 0.0 && d12 == 0.0 {
@@ -71,6 +79,7 @@ pub fn extrapolate(spacings: &[f64], values: &[f64]) -> Option<Extrapolation> {
             value: f3,
             uncertainty: 0.0,
             finest_error: 0.0,
+            noise: 0.0,
         });
     }
     // Monotone convergence: both differences of one sign, shrinking towards the fine end.
@@ -102,7 +111,35 @@ pub fn extrapolate(spacings: &[f64], values: &[f64]) -> Option<Extrapolation> {
         value,
         uncertainty: SAFETY_ORDER_OBSERVED * d23.abs() / (r.powf(p) - 1.0),
         finest_error: (f3 - value).abs(),
+        noise: 0.0,
     })
+}
+
+/// [`extrapolate`] for values that are means with standard errors `standard_errors` (same unit,
+/// one per spacing): the uncertainty also covers twice the means' propagated scatter.
+pub fn extrapolate_means(spacings: &[f64], values: &[f64], standard_errors: &[f64]) -> Option<Extrapolation> {
+    let mut e = extrapolate(spacings, values)?;
+    if standard_errors.len() != spacings.len() {
+        return None;
+    }
+    let mut by_spacing: Vec<(f64, f64)> = spacings
+        .iter()
+        .copied()
+        .zip(standard_errors.iter().copied())
+        .collect();
+    by_spacing.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let n = by_spacing.len();
+    let [(s2, e2), (s3, e3)] = [by_spacing[n - 2], by_spacing[n - 1]];
+    let variance = match e.order {
+        Some(p) => {
+            let g = 1.0 / ((s2 / s3).powf(p) - 1.0);
+            ((1.0 + g) * e3).powi(2) + (g * e2).powi(2)
+        }
+        None => e3 * e3,
+    };
+    e.noise = 2.0 * variance.sqrt();
+    e.uncertainty = e.uncertainty.hypot(e.noise);
+    Some(e)
 }
 
 #[cfg(test)]
@@ -136,6 +173,19 @@ mod tests {
     fn growing_differences_claim_no_order() {
         let e = extrapolate(&[0.01, 0.0075, 0.005], &[0.52, 0.51, 0.45]).unwrap();
         assert_eq!(e.order, None);
+    }
+
+    /// The scatter of the means widens the band: an exact power law whose finest mean has a
+    /// standard error of 0.01 (and the others none) gets at least twice that, scaled by the
+    /// extrapolation's leverage 1 + 1/(rᵖ − 1).
+    #[test]
+    fn scattered_means_widen_the_band() {
+        let s = [0.01, 0.0075, 0.005];
+        let f: Vec<f64> = s.iter().map(|s: &f64| 0.4 + 30.0 * s * s).collect();
+        let e = extrapolate_means(&s, &f, &[0.0, 0.0, 0.01]).unwrap();
+        let leverage = 1.0 + 1.0 / (1.5f64.powi(2) - 1.0);
+        assert!((e.noise - 2.0 * 0.01 * leverage).abs() < 1e-9, "{e:?}");
+        assert!(e.uncertainty >= e.noise);
     }
 
     /// Too few spacings, or a repeated one, give nothing.
