@@ -186,3 +186,23 @@ fn a_pin_away_from_the_cloth_is_rejected() {
         "{e}"
     );
 }
+
+/// A field out of range is reported where the file writes it (line and column), but a value a
+/// `--set` gave has no place in the file, and none is claimed.
+#[test]
+fn a_bad_value_is_placed_in_the_file_unless_set_on_the_command_line() {
+    let path = common::crate_path("tests/bad_scenes/negative_dt.ron");
+    let e = Scene::load(&path, &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("negative_dt.ron:29:9: field `integration.dt_s`"),
+        "{e}"
+    );
+    let shipped = common::crate_path("scenes/drape_wool.ron");
+    let e = Scene::load(&shipped, &["integration.dt_s=-0.001".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("drape_wool.ron: field `integration.dt_s` = -0.001"),
+        "{e}"
+    );
+}

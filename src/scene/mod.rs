@@ -5,6 +5,7 @@
 //! (`forces`, `schedule`, `measure`) never sees RON.
 
 mod describe;
+mod field_location;
 mod scene_error;
 mod scene_file;
 mod scene_overrides;
@@ -63,13 +64,14 @@ impl Scene {
                 reason,
             })?;
         }
-        Self::from_spec(spec, path)
+        Self::from_spec(spec, path).map_err(|e| e.located(text, overrides))
     }
 
     /// Validates an already parsed scene.
     pub fn from_spec(spec: SceneFile, path: PathBuf) -> Result<Self, SceneError> {
         scene_validation::validate(&spec).map_err(|(field, value, reason)| SceneError::Invalid {
             path: path.clone(),
+            at: None,
             field,
             value,
             reason,
@@ -102,6 +104,7 @@ impl Scene {
             .check_pins()
             .map_err(|(field, value, reason)| SceneError::Invalid {
                 path: scene.path.clone(),
+                at: None,
                 field,
                 value,
                 reason,

@@ -28,10 +28,13 @@ pub enum SceneError {
         message: String,
     },
     /// A value is out of its physical or numerical range.
-    #[error("{}: field `{field}` = {value}: {reason}", path.display())]
+    #[error("{}{}: field `{field}` = {value}: {reason}", path.display(), place(at))]
     Invalid {
         /// The scene file.
         path: PathBuf,
+        /// 1-based line and column of the field in the file, where the file writes it (not for
+        /// a default or a `--set` value).
+        at: Option<(u32, u32)>,
         /// Path of the field, e.g. `integration.dt_s`.
         field: String,
         /// The offending value.
@@ -71,4 +74,46 @@ pub enum SceneError {
         /// What is wrong with it.
         reason: String,
     },
+}
+
+/// `:line:column` of a located field, nothing otherwise.
+fn place(at: &Option<(u32, u32)>) -> String {
+    at.map_or(String::new(), |(line, column)| format!(":{line}:{column}"))
+}
+
+impl SceneError {
+    /// The same error, with an invalid field's place in the scene `text` filled in, unless one
+    /// of `overrides` (`KEY=VALUE`) set that field (its value then is not the file's).
+    pub(crate) fn located(self, text: &str, overrides: &[String]) -> Self {
+        match self {
+            SceneError::Invalid {
+                path,
+                at: None,
+                field,
+                value,
+                reason,
+            } => {
+                let dotted = field.replace('[', ".").replace(']', "");
+                let overridden = overrides.iter().any(|o| {
+                    let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+                    dotted == key
+                        || dotted.starts_with(&format!("{key}."))
+                        || key.starts_with(&format!("{dotted}."))
+                });
+                let at = if overridden {
+                    None
+                } else {
+                    super::field_location::locate_field(text, &field).map(|(l, c)| (l as u32, c as u32))
+                };
+                SceneError::Invalid {
+                    path,
+                    at,
+                    field,
+                    value,
+                    reason,
+                }
+            }
+            other => other,
+        }
+    }
 }

@@ -81,6 +81,7 @@ pub fn run_convergence(
     let scene = Scene::load(path, base)?;
     let invalid = |field: &str, value: String, reason: &str| SceneError::Invalid {
         path: scene.path.clone(),
+        at: None,
         field: field.to_string(),
         value,
         reason: reason.to_string(),

@@ -154,6 +154,7 @@ pub fn run_study(
     if group > 1 && !matches!(base_scene.spec.cloth.shape, ClothShape::Circle { .. }) {
         return Err(SceneError::Invalid {
             path: base_scene.path.clone(),
+            at: None,
             field: "cloth.shape".to_string(),
             value: format!("{:?}", base_scene.spec.cloth.shape),
             reason: "--placements applies to circular cloths: a rectangle's lattice fills its outline"
@@ -209,6 +210,7 @@ pub fn run_study(
             .collect();
         return Err(SceneError::Invalid {
             path: base_scene.path.clone(),
+            at: None,
             field: "integration.dt_s".to_string(),
             value: "every grid point".to_string(),
             reason: format!("every grid point is refused: {}", refused.join("; ")),
