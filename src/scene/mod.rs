@@ -94,6 +94,7 @@ impl Scene {
         })?;
         check_explicit_step(&spec, &fabric).map_err(|(limit, reason)| SceneError::StepTooLong {
             path: path.clone(),
+            at: None,
             dt_s: spec.integration.dt_s,
             effect: limit.effect,
             max_step_s: limit.max_step,

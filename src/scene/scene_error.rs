@@ -43,10 +43,12 @@ pub enum SceneError {
         reason: String,
     },
     /// The explicit step is longer than the stability guard allows (`docs/model.md` §10).
-    #[error("{}: field `integration.dt_s` = {dt_s}: {reason}", path.display())]
+    #[error("{}{}: field `integration.dt_s` = {dt_s}: {reason}", path.display(), place(at))]
     StepTooLong {
         /// The scene file.
         path: PathBuf,
+        /// 1-based line and column of `integration.dt_s` in the file, where the file writes it.
+        at: Option<(u32, u32)>,
         /// The scene's step (s).
         dt_s: f64,
         /// The effect with the tightest limit, as scenes and metrics name it.
@@ -82,9 +84,24 @@ fn place(at: &Option<(u32, u32)>) -> String {
 }
 
 impl SceneError {
-    /// The same error, with an invalid field's place in the scene `text` filled in, unless one
-    /// of `overrides` (`KEY=VALUE`) set that field (its value then is not the file's).
+    /// The same error, with an invalid field's (or a refused step's) place in the scene `text`
+    /// filled in, unless one of `overrides` (`KEY=VALUE`) set that field (its value then is not
+    /// the file's).
     pub(crate) fn located(self, text: &str, overrides: &[String]) -> Self {
+        let place_of = |field: &str| {
+            let dotted = field.replace('[', ".").replace(']', "");
+            let overridden = overrides.iter().any(|o| {
+                let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+                dotted == key
+                    || dotted.starts_with(&format!("{key}."))
+                    || key.starts_with(&format!("{dotted}."))
+            });
+            if overridden {
+                None
+            } else {
+                super::field_location::locate_field(text, field).map(|(l, c)| (l as u32, c as u32))
+            }
+        };
         match self {
             SceneError::Invalid {
                 path,
@@ -92,27 +109,28 @@ impl SceneError {
                 field,
                 value,
                 reason,
-            } => {
-                let dotted = field.replace('[', ".").replace(']', "");
-                let overridden = overrides.iter().any(|o| {
-                    let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
-                    dotted == key
-                        || dotted.starts_with(&format!("{key}."))
-                        || key.starts_with(&format!("{dotted}."))
-                });
-                let at = if overridden {
-                    None
-                } else {
-                    super::field_location::locate_field(text, &field).map(|(l, c)| (l as u32, c as u32))
-                };
-                SceneError::Invalid {
-                    path,
-                    at,
-                    field,
-                    value,
-                    reason,
-                }
-            }
+            } => SceneError::Invalid {
+                path,
+                at: place_of(&field),
+                field,
+                value,
+                reason,
+            },
+            SceneError::StepTooLong {
+                path,
+                at: None,
+                dt_s,
+                effect,
+                max_step_s,
+                reason,
+            } => SceneError::StepTooLong {
+                path,
+                at: place_of("integration.dt_s"),
+                dt_s,
+                effect,
+                max_step_s,
+                reason,
+            },
             other => other,
         }
     }
