@@ -42,6 +42,18 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
                 "effects.hysteresis=true",
             ],
         ),
+        (
+            // The two-level preconditioner refactors at every pass: nothing of it carries
+            // from step to step, so the resumed run's solves are the uninterrupted run's.
+            "implicit_two_level",
+            vec![
+                "integration.max_time_s=0.6",
+                "integration.integrator=Implicit",
+                "integration.dt_s=0.0041666667",
+                "effects.stretch=Kes",
+                "integration.implicit_solver.preconditioner=TwoLevel(coarsening: 4)",
+            ],
+        ),
     ] {
         let sets: Vec<String> = sets.into_iter().map(String::from).collect();
         let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();

@@ -58,6 +58,7 @@ pub use link_compression::{BUCKLING_MARGIN, LinkCompression};
 pub use link_damping::LinkDamping;
 pub use link_matrix::LinkMatrix;
 pub use particle_matrix::ParticleMatrix;
+pub(crate) use particle_matrix::compress_rows;
 pub use perturbation::Perturbation;
 pub use seed_separation::SeedSeparation;
 pub use trellising::Trellising;

@@ -56,15 +56,7 @@ impl ParticleMatrix {
                 }
             }
         }
-        let mut row_start = Vec::with_capacity(n + 1);
-        let mut column = Vec::new();
-        row_start.push(0);
-        for mut row in columns {
-            row.sort_unstable();
-            row.dedup();
-            column.extend(row);
-            row_start.push(column.len());
-        }
+        let (row_start, column) = compress_rows(columns);
         let index = |i: u32, j: u32| -> Place {
             let (r, c) = (i.min(j) as usize, i.max(j));
             let row = &column[row_start[r]..row_start[r + 1]];
@@ -133,6 +125,18 @@ impl ParticleMatrix {
         }
     }
 
+    /// Number of particles (block rows).
+    pub fn particle_count(&self) -> usize {
+        self.row_start.len() - 1
+    }
+
+    /// Row `i`'s stored blocks: their columns (ascending, the first one `i` itself) and the
+    /// blocks A_ij.
+    pub fn row(&self, i: usize) -> (&[u32], &[DMat3]) {
+        let range = self.row_start[i]..self.row_start[i + 1];
+        (&self.column[range.clone()], &self.block[range])
+    }
+
     /// out = A·x.
     pub fn product(&self, x: &[DVec3], out: &mut [DVec3]) {
         out.fill(DVec3::ZERO);
@@ -151,6 +155,21 @@ impl ParticleMatrix {
             out[i] = yi;
         }
     }
+}
+
+/// Each row's columns sorted and deduplicated, concatenated: (row starts, columns), row i's
+/// columns at `columns[starts[i]..starts[i + 1]]`.
+pub(crate) fn compress_rows(rows: Vec<Vec<u32>>) -> (Vec<usize>, Vec<u32>) {
+    let mut starts = Vec::with_capacity(rows.len() + 1);
+    let mut columns = Vec::new();
+    starts.push(0);
+    for mut row in rows {
+        row.sort_unstable();
+        row.dedup();
+        columns.extend(row);
+        starts.push(columns.len());
+    }
+    (starts, columns)
 }
 
 #[cfg(test)]

@@ -44,7 +44,7 @@ fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
 /// `r`, `z`, `p`, `ap` are scratch buffers of the same length as `b`.
 pub fn conjugate_gradient(
     mut apply: impl FnMut(&[DVec3], &mut [DVec3]),
-    precondition: impl Fn(&[DVec3], &mut [DVec3]),
+    mut precondition: impl FnMut(&[DVec3], &mut [DVec3]),
     b: &[DVec3],
     x: &mut [DVec3],
     (r, z, p, ap): (&mut [DVec3], &mut [DVec3], &mut [DVec3], &mut [DVec3]),

@@ -4,8 +4,11 @@ use std::sync::Arc;
 
 use glam::{DMat3, DVec3};
 
+use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
+use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
+use super::thread_lines::ThreadLines;
 use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
     outer,
@@ -31,6 +34,9 @@ pub struct ImplicitSettings {
     /// [`ImplicitSolver::apply_friction`]); `None` (default) for on when the cloth's
     /// stretch is in the solve and off with Rapier's rope joints.
     pub friction: Option<bool>,
+    /// How each conjugate-gradient iteration is preconditioned (default
+    /// [`Preconditioner::Auto`]).
+    pub preconditioner: Preconditioner,
 }
 
 impl Default for ImplicitSettings {
@@ -40,8 +46,70 @@ impl Default for ImplicitSettings {
             tolerance: 1e-3,
             velocity_tolerance: 3e-6,
             friction: None,
+            preconditioner: Preconditioner::Auto,
         }
     }
+}
+
+/// The preconditioner of the implicit solve's conjugate gradients (`docs/model.md` §12,
+/// "Preconditioners").
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Preconditioner {
+    /// Whichever is faster at the cloth's size: block Jacobi below [`TWO_LEVEL_FROM_NODES`]
+    /// nodes, the two-level preconditioner (coarsening 4) from there on (the default).
+    Auto,
+    /// The inverse of each node's own 3×3 block: cheapest per product, but the products a
+    /// solve needs grow with the lattice (about 20 a step at 1 cm, 120 at 2.5 mm for thick
+    /// cotton at 1/240 s).
+    BlockJacobi,
+    /// A sparse Cholesky factor of the whole filtered system (fill-reducing ordering and
+    /// symbolic analysis once per cloth, numeric factorisation when needed;
+    /// [`super::sparse_cholesky`]). A solve on a fresh factor converges in one or two products;
+    /// the factor is kept while the system drifts, and refactored once a solve has needed
+    /// more than `refactor_above` products (0: every solve). A kept factor is not saved in
+    /// checkpoints: a resumed run refactors at its first solve, and so differs from an
+    /// uninterrupted one within the solver's tolerance.
+    Cholesky {
+        /// Products of one solve above which the next solve refactors (dimensionless).
+        refactor_above: usize,
+    },
+    /// Each warp and weft thread's block-tridiagonal part of the system solved exactly
+    /// ([`super::thread_lines`]): the threads' tensile stiffness, which dominates the system,
+    /// is inverted along each thread at O(N) cost.
+    ThreadLines,
+    /// The thread lines plus a correction on a lattice `coarsening` times coarser
+    /// ([`super::coarse_grid`]), whose Galerkin system is factored by sparse Cholesky. Both are
+    /// refactored at every solve pass, so a step's result depends on that step's system alone
+    /// (a resumed run ends where an uninterrupted one does).
+    TwoLevel {
+        /// Coarse spacing over the cloth's spacing (dimensionless, 2 to 16; 4 recommended).
+        coarsening: usize,
+    },
+}
+
+/// Node count from which [`Preconditioner::Auto`] chooses the two-level preconditioner: at
+/// 2,025 nodes both take the same time a step, at 8,093 the two-level one takes a third of
+/// block Jacobi's wall time to a settled drape (thick cotton, `docs/model.md` §12).
+pub const TWO_LEVEL_FROM_NODES: usize = 5_000;
+
+impl Preconditioner {
+    /// The preconditioner this one stands for on a cloth of `nodes` nodes ([`Self::Auto`]
+    /// resolved; any other is itself).
+    pub fn for_nodes(self, nodes: usize) -> Self {
+        match self {
+            Self::Auto if nodes >= TWO_LEVEL_FROM_NODES => Self::TwoLevel { coarsening: 4 },
+            Self::Auto => Self::BlockJacobi,
+            other => other,
+        }
+    }
+}
+
+/// The preconditioner a pass uses.
+#[derive(Clone, Copy, PartialEq)]
+enum Active {
+    Jacobi,
+    Cholesky,
+    Lines,
 }
 
 /// Totals over a run, for `metrics.json`.
@@ -57,6 +125,9 @@ pub struct ImplicitStats {
     /// Steps solved twice because a support's static friction gave way (a step's release).
     #[serde(default)]
     pub repeated: u64,
+    /// Numeric Cholesky factorisations ([`Preconditioner::Cholesky`]; 0 with block Jacobi).
+    #[serde(default)]
+    pub factorisations: u64,
     /// The last solve.
     pub last: CgReport,
 }
@@ -112,6 +183,22 @@ pub struct ImplicitSolver {
     unfiltered_rhs: Vec<DVec3>,
     /// Nodes pinned to a body that cannot move: their Δv is held at zero, as the pin will.
     held: Vec<bool>,
+    /// The sparse Cholesky preconditioner, built at the first solve that asks for it (`None`
+    /// before, with block Jacobi, or if faer could not analyse the system).
+    cholesky: Option<SparseCholesky>,
+    /// The thread-line preconditioner, built at the first solve that asks for it.
+    lines: Option<ThreadLines>,
+    /// The coarse-lattice correction, built at the first solve that asks for it (`None` before,
+    /// or if faer could not analyse it).
+    coarse: Option<CoarseGrid>,
+    /// Each node's filter this pass as a matrix (I, a support's plane, or 0), for the factor.
+    projection: Vec<DMat3>,
+    /// Each node's diagonal block of the filtered system S (kg), for the thread lines.
+    filtered_diagonal: Vec<DMat3>,
+    /// The preconditioner in use ([`ImplicitSettings::preconditioner`] for this cloth's size).
+    method: Preconditioner,
+    /// Products the last solve pass needed (decides a refactorisation).
+    last_products: usize,
     /// Totals so far.
     pub stats: ImplicitStats,
 }
@@ -181,10 +268,23 @@ impl ImplicitSolver {
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
+            cholesky: None,
+            lines: None,
+            coarse: None,
+            projection: vec![DMat3::IDENTITY; n],
+            filtered_diagonal: vec![DMat3::ZERO; n],
+            method: settings.preconditioner.for_nodes(n),
+            last_products: usize::MAX,
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
             topology,
         }
+    }
+
+    /// Numeric factorisations this solver's factors have done (sparse Cholesky and coarse).
+    fn factorisations(&self) -> u64 {
+        self.cholesky.as_ref().map_or(0, |c| c.factorisations)
+            + self.coarse.as_ref().map_or(0, |c| c.factorisations())
     }
 
     /// Holds `node` in place in every solve: for a node pinned to a fixed or kinematic body,
@@ -227,6 +327,7 @@ impl ImplicitSolver {
         // touches the surface and the surface pushed it in the last solve: otherwise a node that
         // the filter keeps off the surface is released, pulled back onto it by the cloth, and
         // held again, every other step.
+        let factorisations_before = self.factorisations();
         let supports = &mut self.supports;
         for ((support, touch), pressed) in supports
             .pushed
@@ -353,37 +454,115 @@ impl ImplicitSolver {
             for (i, dv) in self.dv.iter_mut().enumerate() {
                 *dv = filter(i, *dv);
             }
-            // Block Jacobi: each node's own 3×3 block of the filtered system P·A·P, inverted on
-            // the plane the filter leaves free (the normal gets m, which the filter then removes
-            // again).
-            for (i, (inverse, block)) in self.preconditioner.iter_mut().zip(&self.diagonal).enumerate() {
+            // The preconditioner: a sparse Cholesky factor of the filtered system, refactored
+            // when the last pass needed many products; otherwise (or if it cannot be built)
+            // block Jacobi, each node's own 3×3 block of the filtered system P·A·P, inverted on
+            // the plane the filter leaves free (the normal gets m, which the filter then
+            // removes again).
+            for (i, p) in self.projection.iter_mut().enumerate() {
                 let n = normals[i];
-                *inverse = if self.fixed[i] {
+                *p = if self.fixed[i] {
                     DMat3::ZERO
-                } else if n == DVec3::ZERO {
-                    block.inverse()
                 } else {
-                    let plane = DMat3::IDENTITY - outer(n, n);
-                    let free =
-                        plane * (*block + self.sliding_drag[i] * plane) * plane + masses[i] * outer(n, n);
-                    plane * free.inverse() * plane
+                    DMat3::IDENTITY - outer(n, n)
                 };
             }
-            let preconditioner = &self.preconditioner;
+            let active = match self.method {
+                Preconditioner::Cholesky { refactor_above } => {
+                    let due = self.last_products > refactor_above;
+                    let factor = &mut self.cholesky;
+                    if factor.is_none() {
+                        *factor = SparseCholesky::new(rows);
+                    }
+                    let ready = match factor.as_mut() {
+                        Some(factor) if due || !factor.is_factored() => {
+                            factor.factor(rows, masses, &self.projection, &self.sliding_drag)
+                        }
+                        Some(factor) => factor.is_factored(),
+                        None => false,
+                    };
+                    if ready { Active::Cholesky } else { Active::Jacobi }
+                }
+                Preconditioner::ThreadLines | Preconditioner::TwoLevel { .. } => {
+                    // The thread lines are refactored every pass (kept while solves stay short,
+                    // as the coarse factor is, thin wool at 2.5 mm took 30 products a step
+                    // instead of 22, and 91 ms a step instead of 86); the coarse factor is kept
+                    // while solves stay short.
+                    for (i, (s, block)) in self.filtered_diagonal.iter_mut().zip(&self.diagonal).enumerate() {
+                        let p = self.projection[i];
+                        *s = p * (*block + DMat3::from_diagonal(DVec3::splat(self.sliding_drag[i]))) * p
+                            + masses[i] * (DMat3::IDENTITY - p);
+                    }
+                    if let Preconditioner::TwoLevel { coarsening } = self.method {
+                        if self.coarse.is_none() {
+                            self.coarse = CoarseGrid::new(topo, rows, coarsening);
+                        }
+                        if let Some(coarse) = self.coarse.as_mut() {
+                            coarse.factor(rows, &self.filtered_diagonal, &self.projection);
+                        }
+                    }
+                    let lines = self.lines.get_or_insert_with(|| ThreadLines::new(topo, rows));
+                    if lines.factor(rows, &self.filtered_diagonal, &self.projection) {
+                        Active::Lines
+                    } else {
+                        Active::Jacobi
+                    }
+                }
+                Preconditioner::BlockJacobi | Preconditioner::Auto => Active::Jacobi,
+            };
+            if active == Active::Jacobi {
+                for (i, (inverse, block)) in self.preconditioner.iter_mut().zip(&self.diagonal).enumerate() {
+                    let n = normals[i];
+                    *inverse = if self.fixed[i] {
+                        DMat3::ZERO
+                    } else if n == DVec3::ZERO {
+                        block.inverse()
+                    } else {
+                        let plane = DMat3::IDENTITY - outer(n, n);
+                        let free =
+                            plane * (*block + self.sliding_drag[i] * plane) * plane + masses[i] * outer(n, n);
+                        plane * free.inverse() * plane
+                    };
+                }
+            }
+            let (cholesky, lines, preconditioner) =
+                (&mut self.cholesky, &mut self.lines, &self.preconditioner);
+            let coarse = match self.method {
+                Preconditioner::TwoLevel { .. } => self.coarse.as_mut().filter(|c| c.is_factored()),
+                _ => None,
+            };
             let apply = |x: &[DVec3], out: &mut [DVec3]| {
                 rows.product(x, out);
                 for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
                     *o = filter(i, masses[i] * *x + *o + drag(i, *x));
                 }
             };
+            let mut coarse = coarse;
             let precondition = |r: &[DVec3], z: &mut [DVec3]| {
-                for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
-                    *z = *block * *r;
+                match (active, cholesky.as_mut(), lines.as_mut()) {
+                    (Active::Cholesky, Some(factor), _) => factor.solve(r, z),
+                    (Active::Lines, _, Some(lines)) => lines.solve(r, z),
+                    _ => {
+                        for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
+                            *z = *block * *r;
+                        }
+                        // Each block is already filtered.
+                        if coarse.is_none() {
+                            return;
+                        }
+                    }
+                }
+                if let Some(coarse) = coarse.as_mut() {
+                    coarse.add_correction(r, z);
+                }
+                for (i, z) in z.iter_mut().enumerate() {
+                    *z = filter(i, *z);
                 }
             };
             let [r, z, p, ap] = &mut self.scratch;
             let this_pass =
                 conjugate_gradient(apply, precondition, &self.rhs, &mut self.dv, (r, z, p, ap), stop);
+            self.last_products = this_pass.iterations;
             report = CgReport {
                 iterations: report.iterations + this_pass.iterations,
                 ..this_pass
@@ -449,6 +628,9 @@ impl ImplicitSolver {
             *f = (m / h) * *dv - carried;
         }
         self.stats.solves += 1;
+        // Counted as a difference, so that totals restored from a checkpoint carry on.
+        let factorisations_after = self.factorisations();
+        self.stats.factorisations += factorisations_after - factorisations_before;
         self.stats.iterations += report.iterations as u64;
         if !report.converged {
             self.stats.unconverged += 1;

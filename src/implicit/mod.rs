@@ -33,13 +33,21 @@
 //! treats joints and contact its own way.
 //! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
 
+mod coarse_grid;
 mod conjugate_gradient;
 mod implicit_solver;
+mod sparse_cholesky;
 mod supports;
+mod thread_lines;
 
+pub use coarse_grid::CoarseGrid;
 pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
+pub use implicit_solver::{
+    ImplicitSettings, ImplicitSolver, ImplicitStats, Preconditioner, TWO_LEVEL_FROM_NODES,
+};
+pub use sparse_cholesky::SparseCholesky;
 pub use supports::Supports;
+pub use thread_lines::ThreadLines;
 
 /// How our forces are integrated over a step.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -113,6 +113,10 @@ pub struct Metrics {
     /// Implicit runs with friction in the solve: steps solved twice because a support's static
     /// friction gave way.
     pub cg_repeated_steps: Option<u64>,
+    /// Implicit runs with the Cholesky preconditioner: numeric factorisations over the run (0
+    /// with block Jacobi).
+    #[serde(default)]
+    pub cg_factorisations: Option<u64>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
     /// Creep check (scenes with `settle.creep_check_s`): how long the cloth was watched after

@@ -257,6 +257,7 @@ fn run_metrics(
         cg_iterations_mean: implicit.map(|s| s.iterations as f64 / s.solves.max(1) as f64),
         cg_unconverged_steps: implicit.map(|s| s.unconverged),
         cg_repeated_steps: implicit.map(|s| s.repeated),
+        cg_factorisations: implicit.map(|s| s.factorisations),
         scene: scene.spec.name.clone(),
         fabric: scene.fabric.name.clone(),
         particles: topology.particle_count,

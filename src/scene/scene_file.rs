@@ -398,7 +398,7 @@ pub struct ImplicitSolverSpec {
     /// Most matrix products per step (default 200; thick cotton at 1/240 s takes 34 on average
     /// at 1 cm, 88 at 5 mm).
     pub max_iterations: usize,
-    /// Relative residual at which a solve stops, in the block-Jacobi preconditioner's norm
+    /// Relative residual at which a solve stops, in the norm of the preconditioner in use
     /// (dimensionless; default 0.001).
     pub tolerance: f64,
     /// Mass-weighted RMS velocity error at which a solve stops whatever its relative residual
@@ -411,6 +411,14 @@ pub struct ImplicitSolverSpec {
     /// `Seed`), off with rope joints (`Constraint`), which the solve does not see; there
     /// Rapier's contact applies all friction.
     pub friction: Option<bool>,
+    /// The conjugate gradients' preconditioner (`docs/model.md` §12, "Preconditioners"):
+    /// `Auto` (default: block Jacobi below 5,000 nodes, two-level from there on), `BlockJacobi`
+    /// (cheapest below about 2,000 nodes), `TwoLevel(coarsening: 4)` (thread lines plus a
+    /// correction on a lattice 4 times coarser: its products do not grow with the lattice;
+    /// thick cotton at 2.5 mm settles in a third of block Jacobi's wall time), `ThreadLines`, or
+    /// `Cholesky(refactor_above: K)` (a sparse factor of the whole system; slower than block
+    /// Jacobi at every size measured).
+    pub preconditioner: crate::implicit::Preconditioner,
 }
 
 impl Default for ImplicitSolverSpec {
@@ -421,6 +429,7 @@ impl Default for ImplicitSolverSpec {
             tolerance: d.tolerance,
             velocity_tolerance_m_per_s: d.velocity_tolerance,
             friction: d.friction,
+            preconditioner: d.preconditioner,
         }
     }
 }

@@ -298,6 +298,14 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1.0,
         "m/s",
     )?;
+    if let crate::implicit::Preconditioner::TwoLevel { coarsening, .. } = i.implicit_solver.preconditioner {
+        whole(
+            "integration.implicit_solver.preconditioner.coarsening",
+            coarsening,
+            2,
+            16,
+        )?;
+    }
     if let Some(modulus) = s.effects.compression_modulus_n_per_m {
         if s.effects.stretch != StretchModel::Constraint {
             return Err(violation(

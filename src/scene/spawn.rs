@@ -58,6 +58,7 @@ fn integrator(spec: &IntegrationSpec) -> Integrator {
             tolerance: spec.implicit_solver.tolerance,
             velocity_tolerance: spec.implicit_solver.velocity_tolerance_m_per_s,
             friction: spec.implicit_solver.friction,
+            preconditioner: spec.implicit_solver.preconditioner,
         }),
     }
 }

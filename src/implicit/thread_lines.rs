@@ -1,0 +1,188 @@
+//! The thread-line preconditioner ([`super::Preconditioner::ThreadLines`]): each warp and each
+//! weft thread's own block-tridiagonal part of the filtered system, solved exactly.
+//!
+//! The implicit system is dominated by the threads' tensile stiffness, which couples each node
+//! only to its two neighbours along each thread. Block Jacobi ignores that coupling, so the
+//! products a solve needs grow with the number of nodes along a thread; solving each thread
+//! as a chain (block Thomas algorithm, O(N)) removes it. With T_w and T_f the block-tridiagonal
+//! parts of the filtered system S along the warp and the weft threads (each node's whole
+//! diagonal block of S, and S's blocks between neighbours on the thread), the preconditioner is
+//! z = ½·(T_w⁻¹ + T_f⁻¹)·r, symmetric positive definite when both parts are.
+
+use glam::{DMat3, DVec3};
+
+use crate::forces::{ClothTopology, ParticleMatrix};
+
+/// One thread's chain of nodes, in order along the thread.
+#[derive(Clone, Debug)]
+struct Chain {
+    /// First entry of this chain in [`ThreadLines::nodes`].
+    start: usize,
+    /// Number of nodes.
+    len: usize,
+}
+
+/// Where no block is stored (a chain's end).
+const NONE: u32 = u32::MAX;
+
+/// The chains of both thread directions and their banded factors.
+#[derive(Clone, Debug)]
+pub struct ThreadLines {
+    /// Every chain's nodes, chain after chain: the warp chains, then the weft chains.
+    nodes: Vec<u32>,
+    chains: Vec<Chain>,
+    /// For each entry, where the blocks between its node and the next and next-but-one nodes
+    /// of its chain are stored in the particle matrix's row of the node ([`NONE`] past the end).
+    ahead: Vec<[u32; 2]>,
+    /// Each entry's pivot block D_k of the banded LDLᵀ factor, and its inverse.
+    pivot: Vec<DMat3>,
+    pivot_inverse: Vec<DMat3>,
+    /// L_{k+1,k} and L_{k+2,k} of each entry k (zero past the chain's end).
+    lower: Vec<[DMat3; 2]>,
+    /// Intermediate values of a solve, per entry.
+    work: Vec<DVec3>,
+}
+
+impl ThreadLines {
+    /// The warp and weft chains of `topology`, with the particle matrix `rows` (its pattern)
+    /// for the blocks between chain neighbours.
+    pub fn new(topology: &ClothTopology, rows: &ParticleMatrix) -> Self {
+        let n = topology.particle_count;
+        let mut nodes = Vec::with_capacity(2 * n);
+        let mut chains = Vec::new();
+        let (warp, weft) = topology.links.split_at(topology.warp_link_count);
+        for links in [warp, weft] {
+            let mut next = vec![NONE; n];
+            let mut has_previous = vec![false; n];
+            for &[p, q] in links {
+                next[p as usize] = q;
+                has_previous[q as usize] = true;
+            }
+            for first in (0..n).filter(|&p| !has_previous[p]) {
+                let start = nodes.len();
+                let mut p = first as u32;
+                while p != NONE {
+                    nodes.push(p);
+                    p = next[p as usize];
+                }
+                chains.push(Chain {
+                    start,
+                    len: nodes.len() - start,
+                });
+            }
+        }
+        // Links run towards higher particle indices, so the block (p, q) of a later node q is
+        // stored in p's row.
+        let mut ahead = vec![[NONE; 2]; nodes.len()];
+        for chain in &chains {
+            for k in chain.start..chain.start + chain.len {
+                let (columns, _) = rows.row(nodes[k] as usize);
+                for (d, slot) in ahead[k].iter_mut().enumerate() {
+                    if k + d + 1 < chain.start + chain.len {
+                        let q = nodes[k + d + 1];
+                        *slot = columns.binary_search(&q).map_or(NONE, |at| at as u32);
+                    }
+                }
+            }
+        }
+        let entries = nodes.len();
+        Self {
+            nodes,
+            chains,
+            ahead,
+            pivot: vec![DMat3::ZERO; entries],
+            pivot_inverse: vec![DMat3::ZERO; entries],
+            lower: vec![[DMat3::ZERO; 2]; entries],
+            work: vec![DVec3::ZERO; entries],
+        }
+    }
+
+    /// Factors each chain's band of S = P·(M + `rows` + D)·P + (I − P)·M (`projection` P per
+    /// node; `diagonal` holds each node's diagonal block of S, kg). Returns `false` if a pivot
+    /// is not positive definite (the caller then falls back to block Jacobi).
+    pub fn factor(&mut self, rows: &ParticleMatrix, diagonal: &[DMat3], projection: &[DMat3]) -> bool {
+        // S_{k+d,k} = (P_k·A_{k,k+d}·P_{k+d})ᵀ for d = 1, 2 (zero where not stored).
+        let below = |nodes: &[u32], ahead: &[[u32; 2]], k: usize, d: usize| -> DMat3 {
+            let at = ahead[k][d - 1];
+            if at == NONE {
+                return DMat3::ZERO;
+            }
+            let i = nodes[k] as usize;
+            let (columns, blocks) = rows.row(i);
+            let j = columns[at as usize] as usize;
+            (projection[i] * blocks[at as usize] * projection[j]).transpose()
+        };
+        for chain in &self.chains {
+            let start = chain.start;
+            for k in start..start + chain.len {
+                let i = self.nodes[k] as usize;
+                // D_k = S_kk − Σ_j L_kj·D_j·L_kjᵀ over the two entries before k.
+                let mut pivot = diagonal[i];
+                for d in 1..=2 {
+                    if k >= start + d {
+                        let l = self.lower[k - d][d - 1];
+                        pivot -= l * self.pivot[k - d] * l.transpose();
+                    }
+                }
+                if !positive_definite(&pivot) {
+                    return false;
+                }
+                let inverse = pivot.inverse();
+                self.pivot[k] = pivot;
+                self.pivot_inverse[k] = inverse;
+                // L_{k+1,k} = (S_{k+1,k} − L_{k+1,k−1}·D_{k−1}·L_{k,k−1}ᵀ)·D_k⁻¹; L_{k+2,k} = S_{k+2,k}·D_k⁻¹.
+                let mut next = below(&self.nodes, &self.ahead, k, 1);
+                if k > start {
+                    next -= self.lower[k - 1][1] * self.pivot[k - 1] * self.lower[k - 1][0].transpose();
+                }
+                let next2 = below(&self.nodes, &self.ahead, k, 2);
+                self.lower[k] = [next * inverse, next2 * inverse];
+            }
+        }
+        true
+    }
+
+    /// z = ½·(T_w⁻¹ + T_f⁻¹)·r with the last factors.
+    pub fn solve(&mut self, r: &[DVec3], z: &mut [DVec3]) {
+        z.fill(DVec3::ZERO);
+        for chain in &self.chains {
+            let (start, end) = (chain.start, chain.start + chain.len);
+            // Forward: y_k = r_k − L_{k,k−1}·y_{k−1} − L_{k,k−2}·y_{k−2}.
+            let (mut y1, mut y2) = (DVec3::ZERO, DVec3::ZERO);
+            for k in start..end {
+                let mut y = r[self.nodes[k] as usize];
+                if k > start {
+                    y -= self.lower[k - 1][0] * y1;
+                }
+                if k > start + 1 {
+                    y -= self.lower[k - 2][1] * y2;
+                }
+                self.work[k] = y;
+                (y2, y1) = (y1, y);
+            }
+            // Back: x_k = D_k⁻¹·y_k − L_{k+1,k}ᵀ·x_{k+1} − L_{k+2,k}ᵀ·x_{k+2} (the two
+            // lower blocks are zero past the chain's end).
+            let (mut x1, mut x2) = (DVec3::ZERO, DVec3::ZERO);
+            for k in (start..end).rev() {
+                let [l1, l2] = &self.lower[k];
+                let x = self.pivot_inverse[k] * self.work[k]
+                    - transposed_product(l1, x1)
+                    - transposed_product(l2, x2);
+                z[self.nodes[k] as usize] += 0.5 * x;
+                (x2, x1) = (x1, x);
+            }
+        }
+    }
+}
+
+/// Lᵀ·x.
+#[inline(always)]
+fn transposed_product(l: &DMat3, x: DVec3) -> DVec3 {
+    DVec3::new(l.x_axis.dot(x), l.y_axis.dot(x), l.z_axis.dot(x))
+}
+
+/// Whether a symmetric 3×3 block is positive definite (Sylvester's criterion; false for NaN).
+fn positive_definite(a: &DMat3) -> bool {
+    let minor = a.x_axis.x * a.y_axis.y - a.x_axis.y * a.y_axis.x;
+    a.x_axis.x > 0.0 && minor > 0.0 && a.determinant() > 0.0
+}
