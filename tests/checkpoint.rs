@@ -5,7 +5,8 @@
 //! 1. Interrupted at an arbitrary step (a timer sets the interrupt flag, as Ctrl-C does) and
 //!    resumed, a run gives bit-identical metrics (wall times aside) and node positions to the
 //!    same run left alone: explicit, and implicit with hysteresis (so the friction slips and the
-//!    solver's warm start are part of the state).
+//!    solver's warm start are part of the state), with the two-level preconditioner, and with
+//!    BDF2 (whose history is part of the state).
 //! 2. `kes-cloth run --checkpoint-every` stopped by SIGINT exits with 130 and leaves
 //!    `metrics.json` (marked interrupted), `final.obj`, `top.png` and `checkpoint.cbor`;
 //!    `kes-cloth resume` finishes the run.
@@ -52,6 +53,16 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
                 "integration.dt_s=0.0041666667",
                 "effects.stretch=Kes",
                 "integration.implicit_solver.preconditioner=TwoLevel(coarsening: 4)",
+            ],
+        ),
+        (
+            // BDF2 carries each node's lag and last velocity from step to step.
+            "implicit_bdf2",
+            vec![
+                "integration.max_time_s=0.6",
+                "integration.integrator=Bdf2",
+                "integration.dt_s=0.0041666667",
+                "effects.stretch=Kes",
             ],
         ),
     ] {

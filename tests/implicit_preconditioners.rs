@@ -87,6 +87,7 @@ fn kick_on(
         max_iterations: 2000,
         friction: Some(true),
         preconditioner,
+        ..ImplicitSettings::default()
     };
     let mut solver = ImplicitSolver::new(topo.clone(), m, settings);
     solver.apply_friction(true);

@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 pub use checkpoint_error::CheckpointError;
 
 use crate::forces::EffectStates;
-use crate::implicit::ImplicitStats;
+use crate::implicit::{Bdf2History, ImplicitStats};
 use crate::measure::{CreepWatch, Motion, MovingColliders, SettleState, WorldColliders};
 use crate::scene::{Scene, SceneFile};
 use crate::schedule::{Clock, ClothEffects, ClothState, EffectLedger, Implicit, Physics};
@@ -47,6 +47,9 @@ struct ImplicitState {
     pressed: Vec<bool>,
     /// Per node: the last friction impulse of a sliding node (N·s; 0 where not sliding).
     sliding: Vec<f64>,
+    /// BDF2's lag and previous velocities (absent with backward Euler or before its first step).
+    #[serde(default)]
+    bdf2: Option<Bdf2History>,
 }
 
 /// Everything needed to continue a run.
@@ -110,6 +113,7 @@ impl Snapshot {
                 stats: i.0.stats,
                 pressed: i.0.pressed().to_vec(),
                 sliding: i.0.sliding_impulses().to_vec(),
+                bdf2: i.0.bdf2_history().cloned(),
             }),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
@@ -154,6 +158,7 @@ impl Snapshot {
                 i.0.restore_warm_start(&s.warm_start)
                     && i.0.restore_pressed(&s.pressed)
                     && i.0.restore_sliding_impulses(&s.sliding)
+                    && i.0.restore_bdf2_history(s.bdf2.clone())
             }
             (i, s) => i.is_none() && s.is_none(),
         };

@@ -70,8 +70,9 @@ pub struct CoarseGrid {
     /// product already holds the filter).
     zeros: Vec<f64>,
     identities: Vec<DMat3>,
-    /// Coarse right-hand side and solution.
+    /// Coarse right-hand side, then solution (swapped with `solution` by a solve).
     coarse: Vec<DVec3>,
+    solution: Vec<DVec3>,
     /// Whether the last factorisation succeeded.
     factored: bool,
 }
@@ -179,6 +180,7 @@ impl CoarseGrid {
             zeros: vec![0.0; nc],
             identities: vec![DMat3::IDENTITY; nc],
             coarse: vec![DVec3::ZERO; nc],
+            solution: vec![DVec3::ZERO; nc],
             factored: false,
         })
     }
@@ -242,8 +244,8 @@ impl CoarseGrid {
                 self.coarse[a as usize] += w * *r;
             }
         }
-        let rhs = self.coarse.clone();
-        self.cholesky.solve(&rhs, &mut self.coarse);
+        self.cholesky.solve(&self.coarse, &mut self.solution);
+        std::mem::swap(&mut self.coarse, &mut self.solution);
         for (own, z) in self.parents.iter().zip(z) {
             for &(a, w) in own {
                 *z += w * self.coarse[a as usize];

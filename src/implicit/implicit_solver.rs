@@ -6,6 +6,8 @@ use glam::{DMat3, DVec3};
 
 use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
+use super::preconditioner::Preconditioner;
+use super::scheme::{Bdf2History, Scheme};
 use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
 use super::thread_lines::ThreadLines;
@@ -37,6 +39,8 @@ pub struct ImplicitSettings {
     /// How each conjugate-gradient iteration is preconditioned (default
     /// [`Preconditioner::Auto`]).
     pub preconditioner: Preconditioner,
+    /// How the solve steps in time (default [`Scheme::BackwardEuler`]).
+    pub scheme: Scheme,
 }
 
 impl Default for ImplicitSettings {
@@ -47,59 +51,7 @@ impl Default for ImplicitSettings {
             velocity_tolerance: 3e-6,
             friction: None,
             preconditioner: Preconditioner::Auto,
-        }
-    }
-}
-
-/// The preconditioner of the implicit solve's conjugate gradients (`docs/model.md` §12,
-/// "Preconditioners").
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum Preconditioner {
-    /// Whichever is faster at the cloth's size: block Jacobi below [`TWO_LEVEL_FROM_NODES`]
-    /// nodes, the two-level preconditioner (coarsening 4) from there on (the default).
-    Auto,
-    /// The inverse of each node's own 3×3 block: cheapest per product, but the products a
-    /// solve needs grow with the lattice (about 20 a step at 1 cm, 120 at 2.5 mm for thick
-    /// cotton at 1/240 s).
-    BlockJacobi,
-    /// A sparse Cholesky factor of the whole filtered system (fill-reducing ordering and
-    /// symbolic analysis once per cloth, numeric factorisation when needed;
-    /// [`super::sparse_cholesky`]). A solve on a fresh factor converges in one or two products;
-    /// the factor is kept while the system drifts, and refactored once a solve has needed
-    /// more than `refactor_above` products (0: every solve). A kept factor is not saved in
-    /// checkpoints: a resumed run refactors at its first solve, and so differs from an
-    /// uninterrupted one within the solver's tolerance.
-    Cholesky {
-        /// Products of one solve above which the next solve refactors (dimensionless).
-        refactor_above: usize,
-    },
-    /// Each warp and weft thread's block-tridiagonal part of the system solved exactly
-    /// ([`super::thread_lines`]): the threads' tensile stiffness, which dominates the system,
-    /// is inverted along each thread at O(N) cost.
-    ThreadLines,
-    /// The thread lines plus a correction on a lattice `coarsening` times coarser
-    /// ([`super::coarse_grid`]), whose Galerkin system is factored by sparse Cholesky. Both are
-    /// refactored at every solve pass, so a step's result depends on that step's system alone
-    /// (a resumed run ends where an uninterrupted one does).
-    TwoLevel {
-        /// Coarse spacing over the cloth's spacing (dimensionless, 2 to 16; 4 recommended).
-        coarsening: usize,
-    },
-}
-
-/// Node count from which [`Preconditioner::Auto`] chooses the two-level preconditioner: at
-/// 2,025 nodes both take the same time a step, at 8,093 the two-level one takes a third of
-/// block Jacobi's wall time to a settled drape (thick cotton, `docs/model.md` §12).
-pub const TWO_LEVEL_FROM_NODES: usize = 5_000;
-
-impl Preconditioner {
-    /// The preconditioner this one stands for on a cloth of `nodes` nodes ([`Self::Auto`]
-    /// resolved; any other is itself).
-    pub fn for_nodes(self, nodes: usize) -> Self {
-        match self {
-            Self::Auto if nodes >= TWO_LEVEL_FROM_NODES => Self::TwoLevel { coarsening: 4 },
-            Self::Auto => Self::BlockJacobi,
-            other => other,
+            scheme: Scheme::BackwardEuler,
         }
     }
 }
@@ -199,6 +151,10 @@ pub struct ImplicitSolver {
     method: Preconditioner,
     /// Products the last solve pass needed (decides a refactorisation).
     last_products: usize,
+    /// BDF2's history (`None` before its first step, or with backward Euler).
+    bdf2: Option<Bdf2History>,
+    /// The scheme's velocity of each node this step (m/s; with BDF2, Rapier's plus the lag).
+    state_velocities: Vec<DVec3>,
     /// Totals so far.
     pub stats: ImplicitStats,
 }
@@ -229,6 +185,24 @@ impl ImplicitSolver {
     /// Each node's kinetic friction impulse from the last solve (N·s; for checkpoints).
     pub fn sliding_impulses(&self) -> &[f64] {
         &self.sliding_impulse
+    }
+
+    /// BDF2's history (for checkpoints; `None` before its first step or with backward Euler).
+    pub fn bdf2_history(&self) -> Option<&Bdf2History> {
+        self.bdf2.as_ref()
+    }
+
+    /// Restores what [`Self::bdf2_history`] returned; `false` (and nothing changed) if it does
+    /// not fit this cloth.
+    pub fn restore_bdf2_history(&mut self, history: Option<Bdf2History>) -> bool {
+        let n = self.masses.len();
+        let fits = history
+            .as_ref()
+            .is_none_or(|h| h.lag.len() == n && h.previous.len() == n);
+        if fits {
+            self.bdf2 = history;
+        }
+        fits
     }
 
     /// Restores what [`Self::sliding_impulses`] returned; `false` (and nothing changed) if it
@@ -275,6 +249,8 @@ impl ImplicitSolver {
             filtered_diagonal: vec![DMat3::ZERO; n],
             method: settings.preconditioner.for_nodes(n),
             last_products: usize::MAX,
+            bdf2: None,
+            state_velocities: vec![DVec3::ZERO; n],
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
             topology,
@@ -328,6 +304,29 @@ impl ImplicitSolver {
         // the filter keeps off the surface is released, pulled back onto it by the cloth, and
         // held again, every other step.
         let factorisations_before = self.factorisations();
+        // The step the system is assembled at, and the scheme's velocities: Rapier's, or with
+        // BDF2 Rapier's plus each node's lag (scheme.rs).
+        let rapier_velocities = velocities;
+        let mut state = std::mem::take(&mut self.state_velocities);
+        let n = self.masses.len();
+        let bdf2 = match self.settings.scheme {
+            Scheme::Bdf2 => {
+                let history = self.bdf2.get_or_insert_with(|| Bdf2History::new(n));
+                history.velocities(rapier_velocities, &self.held, &mut state);
+                // Its first step is backward Euler's: started from a history of constant
+                // velocity, BDF2 would miss a third of the first step's velocity change, an
+                // error of first order in h that never decays.
+                history.started.then_some(&*history)
+            }
+            Scheme::BackwardEuler => None,
+        };
+        let hs = if bdf2.is_some() {
+            Scheme::Bdf2
+        } else {
+            Scheme::BackwardEuler
+        }
+        .system_step(h);
+        let velocities: &[DVec3] = if bdf2.is_some() { &state } else { rapier_velocities };
         let supports = &mut self.supports;
         for ((support, touch), pressed) in supports
             .pushed
@@ -342,21 +341,48 @@ impl ImplicitSolver {
         let (topo, masses) = (&*self.topology, &self.masses);
         let (pert, product, matrix) = (&mut self.perturbation, &mut self.product, &mut self.matrix);
         // Assemble h²·H, and with it b = h·F − h²·H·v (h·M·g is added below); then add h·C.
+        // (BDF2: h' for h, 3w/2 for v, and its history and lag terms, scheme.rs.)
         matrix.clear();
         for g in generators.iter().flatten() {
-            g.add_stiffness_blocks(geometry, h * h, matrix);
+            g.add_stiffness_blocks(geometry, hs * hs, matrix);
         }
-        pert.set(topo, velocities);
+        match bdf2 {
+            Some(_) => {
+                for (a, w) in self.ax.iter_mut().zip(rapier_velocities) {
+                    *a = 1.5 * *w;
+                }
+                pert.set(topo, &self.ax);
+            }
+            None => pert.set(topo, velocities),
+        }
         let hv = matrix.product(topo, pert, product);
         // Gravity enters the solve too, and leaves the kick again because Rapier applies it.
         // Our stiff response then balances the cloth's weight where the cloth's constraints do:
         // solved without it, a cloth at rest ends where F = −(M + h²H)·g, as if it weighed
         // (M + h²H)/M times more in its stiff modes (docs/model.md §12).
-        for (((b, f), hv), m) in self.unfiltered_rhs.iter_mut().zip(&*forces).zip(hv).zip(masses) {
-            *b = h * *f - *hv + h * (*m * gravity);
+        for (i, (((b, f), hv), m)) in self
+            .unfiltered_rhs
+            .iter_mut()
+            .zip(&*forces)
+            .zip(hv)
+            .zip(masses)
+            .enumerate()
+        {
+            *b = hs * *f - *hv + hs * (*m * gravity);
+            if let Some(history) = bdf2 {
+                *b += history.history(i, *m, velocities[i]);
+            }
         }
         for g in generators.iter().flatten() {
-            g.add_damping_blocks(h, matrix);
+            g.add_damping_blocks(hs, matrix);
+        }
+        // BDF2's lag: the forces were taken at Rapier's velocities, the scheme's differ by d.
+        if let Some(history) = bdf2 {
+            pert.set(topo, &history.lag);
+            let lag = matrix.product(topo, pert, product);
+            for (b, l) in self.unfiltered_rhs.iter_mut().zip(lag) {
+                *b -= *l;
+            }
         }
         for (d, m) in self.diagonal.iter_mut().zip(masses) {
             *d = DMat3::from_diagonal(DVec3::splat(*m));
@@ -625,8 +651,21 @@ impl ImplicitSolver {
             } else {
                 filter(n, self.held[i], weight)
             };
-            *f = (m / h) * *dv - carried;
+            let kick = bdf2.map_or(*dv, |history| history.kick(i, *dv));
+            *f = (m / h) * kick - carried;
         }
+        let stepped_bdf2 = bdf2.is_some();
+        if let Some(history) = self
+            .bdf2
+            .as_mut()
+            .filter(|_| self.settings.scheme == Scheme::Bdf2)
+        {
+            match stepped_bdf2 {
+                true => history.advance(velocities, &self.dv),
+                false => history.start(velocities),
+            }
+        }
+        self.state_velocities = state;
         self.stats.solves += 1;
         // Counted as a difference, so that totals restored from a checkpoint carry on.
         let factorisations_after = self.factorisations();

@@ -1,4 +1,5 @@
-//! Linearly implicit (backward Euler) KES forces, after Baraff & Witkin (1998).
+//! Linearly implicit (backward Euler, or BDF2: [`Scheme`]) KES forces, after Baraff & Witkin
+//! (1998).
 //!
 //! Rapier samples our forces once per step, so applied as they are they are explicit, and a
 //! stiff fabric needs a step 10–20 times smaller than contact does (`docs/model.md` §7). With
@@ -12,8 +13,9 @@
 //! 3. assembles h²·H and h·C (C the damping matrix of the dissipative effects) block by block
 //!    ([`crate::forces::LinkMatrix`], summed into particle rows for the products,
 //!    [`crate::forces::ParticleMatrix`]) and solves (M + h·C + h²·H)·Δv = b by conjugate gradients,
-//!    preconditioned by the inverse of each node's 3×3 diagonal block and warm-started from
-//!    the previous step's Δv, with the normal
+//!    preconditioned by the inverse of each node's 3×3 diagonal block, or on a large cloth by
+//!    the thread lines plus a coarse-lattice correction ([`Preconditioner`]), and warm-started
+//!    from the previous step's Δv, with the normal
 //!    component of Δv held at zero for nodes that a fixed surface pushed in Rapier's last step
 //!    (Baraff & Witkin's filter, with Rapier's contact impulses as the active set), or that
 //!    still touch the surface that pushed them in the last solve (their release rule: a support
@@ -29,6 +31,9 @@
 //! 5. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
+//! With [`Scheme::Bdf2`] steps 2–3 use h' = 2h/3 and BDF2's history, and step 5 hands Rapier
+//! BDF2's kick (`scheme.rs`).
+//!
 //! Only our forces, gravity and (optionally) the supports' friction are implicit; Rapier still
 //! treats joints and contact its own way.
 //! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
@@ -36,15 +41,17 @@
 mod coarse_grid;
 mod conjugate_gradient;
 mod implicit_solver;
+mod preconditioner;
+mod scheme;
 mod sparse_cholesky;
 mod supports;
 mod thread_lines;
 
 pub use coarse_grid::CoarseGrid;
 pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-pub use implicit_solver::{
-    ImplicitSettings, ImplicitSolver, ImplicitStats, Preconditioner, TWO_LEVEL_FROM_NODES,
-};
+pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
+pub use preconditioner::{Preconditioner, TWO_LEVEL_FROM_NODES};
+pub use scheme::{Bdf2History, Scheme};
 pub use sparse_cholesky::SparseCholesky;
 pub use supports::Supports;
 pub use thread_lines::ThreadLines;
@@ -55,7 +62,7 @@ pub enum Integrator {
     /// Forces at the start of the step, as one velocity kick (symplectic Euler in Rapier): cheapest
     /// per step, but stable only for steps below the fabric's explicit limit.
     Explicit,
-    /// Linearly implicit backward Euler: stable at any step, with numerical damping that grows
-    /// with h.
+    /// Linearly implicit backward Euler (or BDF2, [`ImplicitSettings::scheme`]): stable at any
+    /// step, with numerical damping that grows with h (far less of it with BDF2).
     Implicit(ImplicitSettings),
 }

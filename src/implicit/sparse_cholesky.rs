@@ -143,7 +143,7 @@ impl SparseCholesky {
         self.symbolic.len_val()
     }
 
-    /// Whether a factor is ready for [`Self::precondition`].
+    /// Whether a factor is ready for [`Self::solve`].
     pub fn is_factored(&self) -> bool {
         !self.factor.is_empty()
     }

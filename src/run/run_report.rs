@@ -85,7 +85,14 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.spacing_m * 1e3,
         m.dt_s * 1e3,
         match m.cg_iterations_mean {
-            Some(it) => format!("implicit ({it:.0} CG products per step)"),
+            Some(it) => format!(
+                "{} ({it:.0} CG products per step)",
+                if m.integrator == "Bdf2" {
+                    "implicit BDF2"
+                } else {
+                    "implicit"
+                }
+            ),
             None => "explicit".to_string(),
         }
     );

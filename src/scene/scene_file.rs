@@ -389,6 +389,10 @@ pub enum IntegratorSpec {
     /// Linearly implicit backward Euler (Baraff & Witkin): stable at the step contact needs;
     /// adds numerical damping that grows with the step.
     Implicit,
+    /// The same solve as `Implicit`, stepped by the second-order BDF2 formula: as stable, with
+    /// far less numerical damping of slow motion (a 10 Hz mode at 1/240 s keeps 98 % of its
+    /// amplitude over a period against 45 %; `docs/model.md` §12, "BDF2").
+    Bdf2,
 }
 
 /// Conjugate-gradient settings of the implicit solve.

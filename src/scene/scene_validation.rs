@@ -321,7 +321,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         // Implicitly, any rate is stable.
         let limit = match i.integrator {
             IntegratorSpec::Explicit => 0.25 / s.integration.dt_s,
-            IntegratorSpec::Implicit => 1e6,
+            IntegratorSpec::Implicit | IntegratorSpec::Bdf2 => 1e6,
         };
         in_closed(
             "effects.damping.rate_per_s",
@@ -330,7 +330,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
             limit,
             match i.integrator {
                 IntegratorSpec::Explicit => "1/s (explicit damping is stable below 1/(4·dt))",
-                IntegratorSpec::Implicit => "1/s",
+                IntegratorSpec::Implicit | IntegratorSpec::Bdf2 => "1/s",
             },
         )?;
     }

@@ -10,7 +10,7 @@ use super::{ClothShape, ColliderMotion, ColliderShape, IntegrationSpec, Integrat
 use crate::bodies::{ThrownBody, WorldShape, add_world_collider, configure_world};
 use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
 use crate::forces::ClothTopology;
-use crate::implicit::{ImplicitSettings, Integrator};
+use crate::implicit::{ImplicitSettings, Integrator, Scheme};
 use crate::measure::{Motion, MovingColliders, SettleState, WorldColliders};
 use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 
@@ -53,12 +53,16 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
 fn integrator(spec: &IntegrationSpec) -> Integrator {
     match spec.integrator {
         IntegratorSpec::Explicit => Integrator::Explicit,
-        IntegratorSpec::Implicit => Integrator::Implicit(ImplicitSettings {
+        IntegratorSpec::Implicit | IntegratorSpec::Bdf2 => Integrator::Implicit(ImplicitSettings {
             max_iterations: spec.implicit_solver.max_iterations,
             tolerance: spec.implicit_solver.tolerance,
             velocity_tolerance: spec.implicit_solver.velocity_tolerance_m_per_s,
             friction: spec.implicit_solver.friction,
             preconditioner: spec.implicit_solver.preconditioner,
+            scheme: match spec.integrator {
+                IntegratorSpec::Bdf2 => Scheme::Bdf2,
+                _ => Scheme::BackwardEuler,
+            },
         }),
     }
 }

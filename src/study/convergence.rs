@@ -108,7 +108,7 @@ pub fn run_convergence(
         .step_exponent
         .unwrap_or(match scene.spec.integration.integrator {
             IntegratorSpec::Explicit => 2.0,
-            IntegratorSpec::Implicit => 0.0,
+            IntegratorSpec::Implicit | IntegratorSpec::Bdf2 => 0.0,
         });
     let (sigma0, dt0) = (scene.spec.cloth.spacing_m, scene.spec.integration.dt_s);
     let mut points = Vec::with_capacity(spacings.len());
