@@ -75,9 +75,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .spacing(0.02)
         .pose(DVec3::new(0.0, 0.005, 0.0), 0.0);
     let (topology, flat) = builder.grid();
-    let mut cloth = builder.build(&mut world);
+    let mut cloth = builder.build(&mut world)?;
     for _ in 0..6000 {
-        cloth.step(&mut world);
+        cloth.step(&mut world)?;
     }
     let m = measure_drape(
         &project(&topology.triangles, cloth.positions()),

@@ -43,7 +43,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .spacing(0.02)
         .pose(DVec3::new(0.0, 0.3, 0.0), 0.0)
         .pin((0, 0), hook, Vec3::ZERO)
-        .build_parts(&mut physics);
+        .build_parts(&mut physics)?;
 
     let mut world = World::new();
     let cloth = spawn_cloth(&mut world, parts);

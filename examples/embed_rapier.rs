@@ -44,9 +44,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .outline(ClothOutline::Rectangle { warp: 0.3, weft: 0.3 })
         .spacing(0.015)
         .pose(DVec3::new(0.0, 0.2, 0.0), 0.0)
-        .build(&mut world);
+        .build(&mut world)?;
     for _ in 0..4000 {
-        cloth.step(&mut world);
+        cloth.step(&mut world)?;
     }
     let end = world.bodies.get(top).ok_or("box")?.translation();
     println!("cloth lowest point: {:.3} m (floor at 0)", cloth.lowest_point());

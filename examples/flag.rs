@@ -33,9 +33,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for j in 0..nv {
         builder = builder.pin((0, j), pole, Vec3::new(0.0, 1.0, -0.1 + 0.02 * j as f32));
     }
-    let mut cloth = builder.build(&mut world);
+    let mut cloth = builder.build(&mut world)?;
     for _ in 0..8000 {
-        cloth.step(&mut world);
+        cloth.step(&mut world)?;
     }
     let pole_x = world.bodies.get(pole).ok_or("pole")?.translation().x as f64;
     let free_edge: Vec<&DVec3> = cloth.positions().iter().rev().take(nv as usize).collect();

@@ -33,13 +33,17 @@
 //!    (your Rapier world among them). See `examples/embed_ecs.rs`.
 //! 3. **A plain Rapier loop**: [`embed::ClothBuilder::build`] adds a cloth to your
 //!    `PhysicsWorld` and returns an [`embed::KesCloth`]; call [`embed::KesCloth::step`] each
-//!    frame (or [`embed::KesCloth::apply_forces`] before your own `world.step()`). See
-//!    `examples/embed_rapier.rs`, `examples/flag.rs`, `examples/custom_fabric.rs`.
+//!    frame (or [`embed::KesCloth::apply_forces`], your own `world.step()`, then
+//!    [`embed::KesCloth::after_step`]). A diverging cloth is an [`embed::StepError`] naming step,
+//!    node and effect. See `examples/embed_rapier.rs`, `examples/flag.rs`,
+//!    `examples/custom_fabric.rs`.
 //!
-//! By default our forces are explicit at Rapier's step (symplectic Euler at any
-//! `num_solver_iterations`): use a step the fabric allows (`docs/rapier.md`, `docs/model.md`).
-//! [`implicit::Integrator::Implicit`] solves them backward-Euler instead, stable at the step
-//! contact needs (1/240 s) for the stiffest fabric.
+//! The world's step decides the integrator: our forces are explicit (symplectic Euler at any
+//! `num_solver_iterations`) where the fabric's stability limit allows the step, and
+//! [`implicit::Integrator::Implicit`] (stable at any step) beyond it, unless you choose;
+//! explicit forces asked for at a step they cannot take are refused
+//! ([`embed::BuildError`]). At the host's own step (1/60 s) call [`embed::prepare_world`]
+//! (`docs/rapier.md`, "Embedding at the host's step").
 //!
 //! ## Modules
 //! - [`material`]: KES data, its conversion to SI, the elastic curves.

@@ -33,7 +33,7 @@ fn hammock(with_ball: bool) -> (f64, Option<(f32, f32)>) {
         );
         builder = builder.pin((i, j), post, Vec3::ZERO);
     }
-    let mut cloth: KesCloth = builder.build(&mut world);
+    let mut cloth: KesCloth = builder.build(&mut world).expect("the hammock builds");
     let ball = with_ball.then(|| {
         let b = world.insert_body(
             RigidBodyBuilder::dynamic()
@@ -44,7 +44,7 @@ fn hammock(with_ball: bool) -> (f64, Option<(f32, f32)>) {
         b
     });
     for _ in 0..6000 {
-        cloth.step(&mut world);
+        cloth.step(&mut world).expect("the hammock steps");
     }
     let ball = ball
         .and_then(|b| world.bodies.get(b))

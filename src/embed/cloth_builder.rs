@@ -8,9 +8,10 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::SeedableRng;
 use rapier3d::prelude::*;
 
+use super::BuildError;
 use crate::bodies::{ClothBodies, NodeOptions};
-use crate::forces::{ClothTopology, EffectChoice, Effects, NodeMass, StretchModel};
-use crate::implicit::{ImplicitSolver, Integrator};
+use crate::forces::{ClothTopology, EffectChoice, Effects, NodeMass, StepLimit, StretchModel};
+use crate::implicit::{ImplicitSettings, ImplicitSolver, Integrator};
 use crate::material::Fabric;
 use crate::schedule::ClothState;
 
@@ -55,7 +56,9 @@ pub struct ClothParts {
 
 /// Builds a KES cloth into a Rapier world. Defaults: a 0.3 m square, 1 cm spacing, centred at
 /// the origin, warp along +x, stretch as a constraint, bending and trellising on, link damping
-/// 150/s, no hysteresis, contact with the world on, no self-collision, gravity on, no pins.
+/// 150/s, no hysteresis, contact with the world on, no self-collision, gravity on, no pins, and
+/// the integrator chosen from the world's step (explicit where the fabric's explicit forces are
+/// stable at it, implicit otherwise; [`Self::integrator`]).
 #[derive(Clone, Debug)]
 pub struct ClothBuilder {
     fabric: Fabric,
@@ -74,7 +77,10 @@ pub struct ClothBuilder {
     self_collision: bool,
     gravity: bool,
     pins: Vec<Pin>,
-    integrator: Integrator,
+    integrator: Option<Integrator>,
+    step_guard: bool,
+    /// Whether [`Self::stretch`] was called.
+    stretch_set: bool,
 }
 
 impl ClothBuilder {
@@ -105,7 +111,9 @@ impl ClothBuilder {
             self_collision: false,
             gravity: true,
             pins: Vec::new(),
-            integrator: Integrator::Explicit,
+            integrator: None,
+            step_guard: true,
+            stretch_set: false,
         }
     }
 
@@ -153,7 +161,9 @@ impl ClothBuilder {
         self
     }
 
-    /// Contact radius of the nodes (m; default half the spacing).
+    /// Contact radius of the nodes (m; default half the spacing, so neighbouring nodes touch and
+    /// bodies dropped on the cloth cannot slip between them; the mid-surface then rests that far
+    /// above a surface).
     pub fn node_radius(mut self, radius: f64) -> Self {
         self.node_radius = Some(radius);
         self
@@ -171,17 +181,20 @@ impl ClothBuilder {
         self
     }
 
-    /// How the threads resist stretch.
+    /// How the threads resist stretch. Unset, [`StretchModel::Constraint`] (Rapier's rope
+    /// joints) for an explicit cloth and [`StretchModel::Kes`] for one the builder makes
+    /// implicit ([`Self::integrator`]): rope joints cannot hold a cloth at long steps
+    /// (`docs/rapier.md`, "Embedding at the host's step").
     pub fn stretch(mut self, model: StretchModel) -> Self {
         self.effects.stretch = model;
+        self.stretch_set = true;
         self
     }
 
     /// With stretch as a constraint, the link compression spring's in-plane modulus (N/m; each
     /// link's stiffness), or `None` (default) for the default modulus. The
-    /// builder runs no stability guard: an explicit world step must stay below the limit
-    /// [`crate::forces::explicit_step_limits`] gives (0.139 ms for thick cotton at 1 cm); the
-    /// default is [`crate::forces::LinkCompression::default_modulus`].
+    /// default is [`crate::forces::LinkCompression::default_modulus`]. A stiffer spring needs a
+    /// shorter explicit step ([`Self::step_limits`]).
     pub fn compression_modulus(mut self, modulus: Option<f64>) -> Self {
         self.effects.compression_modulus = modulus;
         self
@@ -227,10 +240,47 @@ impl ClothBuilder {
         self
     }
 
-    /// How our forces are integrated (default [`Integrator::Explicit`]).
+    /// How our forces are integrated. Unset (the default), the world's step decides when the
+    /// cloth is built: [`Integrator::Explicit`] when the step is within every effect's explicit
+    /// limit ([`Self::step_limits`]), otherwise [`Integrator::Implicit`] with
+    /// [`ImplicitSettings::default`], stable at any step, with the KES tensile law unless
+    /// [`Self::stretch`] was set. Asked for explicitly at a step beyond
+    /// the limit, the build is refused ([`BuildError::StepTooLong`]) unless
+    /// [`Self::step_guard`] is off.
     pub fn integrator(mut self, integrator: Integrator) -> Self {
-        self.integrator = integrator;
+        self.integrator = Some(integrator);
         self
+    }
+
+    /// Whether an explicit cloth at a world step beyond its stability limit is refused (default
+    /// true). Off, it is built anyway: the divergence checks of [`super::KesCloth::step`] are
+    /// then what stops it.
+    pub fn step_guard(mut self, on: bool) -> Self {
+        self.step_guard = on;
+        self
+    }
+
+    /// The explicit step limit of every effect this cloth runs, tightest first (s;
+    /// `docs/model.md` §10): thick cotton at 1 cm with stretch as a constraint allows 0.139 ms.
+    pub fn step_limits(&self) -> Vec<StepLimit> {
+        crate::forces::step_limits(&self.fabric, self.spacing, &self.effects, self.node_mass)
+    }
+
+    /// The integrator a world step of `dt` (s) gets: the one set, or the one the step allows.
+    pub fn integrator_at(&self, dt: f64) -> Result<Integrator, BuildError> {
+        let tightest = self.step_limits().first().copied();
+        let too_long = tightest.filter(|l| dt > l.max_step);
+        match (self.integrator, too_long) {
+            (Some(Integrator::Explicit), Some(limit)) if self.step_guard => Err(BuildError::StepTooLong {
+                dt_s: dt,
+                effect: limit.effect,
+                max_step_s: limit.max_step,
+                spacing_m: self.spacing,
+            }),
+            (Some(integrator), _) => Ok(integrator),
+            (None, Some(_)) => Ok(Integrator::Implicit(ImplicitSettings::default())),
+            (None, None) => Ok(Integrator::Explicit),
+        }
     }
 
     /// The fabric.
@@ -289,9 +339,84 @@ impl ClothBuilder {
         (topology, positions)
     }
 
-    /// Adds the cloth's bodies, joints and pins to `world`. Its step must stay below
-    /// [`crate::forces::explicit_step_limits`] for explicit forces (no guard runs here).
-    pub fn build_parts(self, world: &mut PhysicsWorld) -> ClothParts {
+    /// The settings' ranges, checked before anything is added to a world whose step is `dt`
+    /// (s).
+    fn check(&self, dt: f64) -> Result<(), BuildError> {
+        let invalid = |setting, value: f64, allowed: &str| {
+            Err(BuildError::Invalid {
+                setting,
+                value,
+                allowed: allowed.to_string(),
+            })
+        };
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !positive(dt) {
+            return invalid("integration_parameters.dt", dt, "must be a positive step (s)");
+        }
+        if !(self.spacing.is_finite() && self.spacing >= 1e-4) {
+            return invalid("spacing", self.spacing, "must be at least 1e-4 m (0.1 mm)");
+        }
+        let sizes = match self.outline {
+            ClothOutline::Circle(d) => vec![("outline (circle diameter)", d)],
+            ClothOutline::Rectangle { warp, weft } => {
+                vec![("outline (warp length)", warp), ("outline (weft length)", weft)]
+            }
+        };
+        for (setting, size) in sizes {
+            if !(size.is_finite() && size >= 2.0 * self.spacing && size <= 1e4 * self.spacing) {
+                return invalid(
+                    setting,
+                    size,
+                    &format!(
+                        "must lie in [2σ, 10⁴σ] = [{}, {}] m at σ = {} m",
+                        2.0 * self.spacing,
+                        1e4 * self.spacing,
+                        self.spacing
+                    ),
+                );
+            }
+        }
+        if let Some(r) = self.node_radius.filter(|r| !positive(*r)) {
+            return invalid("node_radius", r, "must be positive (m)");
+        }
+        let (nu, nv) = self.grid_size();
+        let (topology, _) = self.grid();
+        for pin in &self.pins {
+            if !topology.grid_coords.contains(&pin.node) {
+                return Err(BuildError::PinOutsideCloth {
+                    node: pin.node,
+                    grid: (nu, nv),
+                    circle: matches!(self.outline, ClothOutline::Circle(_)),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds the cloth's bodies, joints and pins to `world`, integrated as
+    /// [`Self::integrator_at`] the world's step decides. Refused, with nothing added to the
+    /// world, when a setting is out of range, a pin names no node, or explicit forces were asked
+    /// for at a step they cannot take.
+    pub fn build_parts(self, world: &mut PhysicsWorld) -> Result<ClothParts, BuildError> {
+        let dt = world.integration_parameters.dt as f64;
+        self.check(dt)?;
+        let integrator = self.integrator_at(dt)?;
+        let mut builder = self;
+        if builder.integrator.is_none() && !builder.stretch_set && integrator != Integrator::Explicit {
+            builder.effects.stretch = StretchModel::Kes;
+        }
+        Ok(builder.assemble(world, integrator))
+    }
+
+    /// [`Self::build_parts`] for a scene, which has validated every setting (with the place in
+    /// its file) and run its own stability guard: the integrator it set, no check.
+    pub(crate) fn build_scene_parts(self, world: &mut PhysicsWorld) -> ClothParts {
+        let integrator = self.integrator.unwrap_or(Integrator::Explicit);
+        self.assemble(world, integrator)
+    }
+
+    /// Adds the bodies, joints and pins, with `integrator`.
+    fn assemble(self, world: &mut PhysicsWorld, integrator: Integrator) -> ClothParts {
         let (topology, mut positions) = self.grid();
         let topology = Arc::new(topology);
         let (amplitude, seed) = self.perturbation;
@@ -301,11 +426,10 @@ impl ClothBuilder {
                 p.y += amplitude * rng.random_range(-1.0..=1.0);
             }
         }
-        let sigma = topology.spacing;
         let masses = topology.node_masses(self.fabric.areal_density, self.node_mass);
         let options = NodeOptions {
             masses: masses.clone(),
-            radius: self.node_radius.unwrap_or(sigma / 2.0),
+            radius: self.node_radius.unwrap_or(topology.spacing / 2.0),
             rope_links: self.effects.stretch == StretchModel::Constraint,
             contact: self.contact,
             self_collision: self.self_collision,
@@ -328,7 +452,7 @@ impl ClothBuilder {
         }
         ClothParts {
             effects: Effects::build(&self.effects, &topology, &self.fabric, &masses),
-            implicit: match self.integrator {
+            implicit: match integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => {
                     let mut solver = ImplicitSolver::with_masses(topology.clone(), masses, settings);
@@ -347,8 +471,8 @@ impl ClothBuilder {
         }
     }
 
-    /// Builds a cloth to drive from a plain Rapier loop.
-    pub fn build(self, world: &mut PhysicsWorld) -> super::KesCloth {
-        super::KesCloth::from_parts(self.build_parts(world))
+    /// Builds a cloth to drive from a plain Rapier loop ([`Self::build_parts`]'s checks).
+    pub fn build(self, world: &mut PhysicsWorld) -> Result<super::KesCloth, BuildError> {
+        Ok(super::KesCloth::from_parts(self.build_parts(world)?))
     }
 }

@@ -3,23 +3,50 @@
 use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
-use super::ClothParts;
+use super::{ClothParts, StepError};
+use crate::measure::{
+    Motion, is_runaway, non_finite_force, non_finite_solve_message, non_finite_state,
+    non_finite_state_message, runaway_message,
+};
 
 /// A cloth in a user's Rapier world. Each frame: [`KesCloth::step`], or
-/// [`KesCloth::apply_forces`] followed by your own `world.step()`.
+/// [`KesCloth::apply_forces`], your own `world.step()`, then [`KesCloth::after_step`].
+///
+/// Every step runs the scenes' divergence checks (`docs/model.md` §11) and returns a
+/// [`StepError`] naming the step, the node and the effect instead of letting a diverging cloth
+/// run on; after one, the cloth refuses further steps with the same error.
 pub struct KesCloth {
     parts: ClothParts,
+    /// Steps taken.
+    steps: u64,
+    /// Simulated time (s).
+    time: f64,
+    /// The failure that stopped the cloth.
+    failure: Option<StepError>,
+    /// The motion of the latest step.
+    motion: Motion,
 }
 
 impl KesCloth {
     /// Wraps built parts.
     pub fn from_parts(parts: ClothParts) -> Self {
-        Self { parts }
+        Self {
+            parts,
+            steps: 0,
+            time: 0.0,
+            failure: None,
+            motion: Motion::default(),
+        }
     }
 
-    /// Reads the nodes from `world`, computes every KES force, and hands them to Rapier for
-    /// the next step as a velocity kick F·dt/m on each node: call `world.step()` right after.
-    pub fn apply_forces(&mut self, world: &mut PhysicsWorld) {
+    /// Reads the nodes from `world`, computes every KES force (and, for an implicit cloth, solves
+    /// for its velocity change over the world's step), and hands them to Rapier for the next step
+    /// as a velocity kick F·dt/m on each node: call `world.step()` right after, then
+    /// [`Self::after_step`]. Fails on a non-finite force, naming the effect.
+    pub fn apply_forces(&mut self, world: &mut PhysicsWorld) -> Result<(), StepError> {
+        if let Some(failure) = &self.failure {
+            return Err(failure.clone());
+        }
         let p = &mut self.parts;
         let state = &mut p.state;
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
@@ -29,6 +56,14 @@ impl KesCloth {
         p.effects
             .add_forces(&state.geometry, &state.velocities, &mut state.forces);
         state.forces.resolve(&state.topology);
+        if let Some(node) = non_finite_force(&state.forces.particle) {
+            let effect = p
+                .effects
+                .first_non_finite(&state.topology, &state.positions, &state.velocities)
+                .unwrap_or("unknown");
+            let message = format!("non-finite force {:?} N", state.forces.particle[node]);
+            return Err(self.fail(node, effect, message));
+        }
         if let Some(implicit) = &mut p.implicit {
             p.bodies.read_supports(world, &mut implicit.supports);
             let h = world.integration_parameters.dt as f64;
@@ -36,18 +71,74 @@ impl KesCloth {
             let g = p.bodies.gravity(world);
             let generators: Vec<_> = p.effects.iter().map(Some).collect();
             implicit.solve(&generators, &state.geometry, &state.velocities, forces, (h, g));
+            if let Some(node) = non_finite_force(forces) {
+                let message = non_finite_solve_message(forces[node]);
+                return Err(self.fail(node, "implicit_solve", message));
+            }
         }
-        p.bodies.write_forces(world, &state.forces.particle);
+        let p = &mut self.parts;
+        p.bodies.write_forces(world, &p.state.forces.particle);
+        Ok(())
     }
 
-    /// [`Self::apply_forces`] then `world.step()`; afterwards [`Self::positions`] is current.
-    pub fn step(&mut self, world: &mut PhysicsWorld) {
-        self.apply_forces(world);
+    /// Reads the stepped nodes from `world` (call it after your `world.step()`) and checks them:
+    /// a non-finite position or velocity, or a runaway (a node faster than
+    /// [`crate::measure::RUNAWAY_SPEED`] or a link strained beyond
+    /// [`crate::measure::RUNAWAY_STRAIN`]), is an error naming the effect pushing hardest on the
+    /// node at fault.
+    pub fn after_step(&mut self, world: &PhysicsWorld) -> Result<(), StepError> {
+        if let Some(failure) = &self.failure {
+            return Err(failure.clone());
+        }
+        let dt = world.integration_parameters.dt as f64;
+        let p = &mut self.parts;
+        let state = &mut p.state;
+        std::mem::swap(&mut state.positions, &mut state.previous_positions);
+        p.bodies.read(world, &mut state.positions, &mut state.velocities);
+        if let Some(node) = non_finite_state(&state.positions, &state.velocities) {
+            let message = non_finite_state_message(state.positions[node], state.velocities[node], dt);
+            return Err(self.fail(node, "rapier_step", message));
+        }
+        let motion = Motion::of(
+            &state.topology,
+            &p.bodies.masses,
+            (&state.positions, &state.previous_positions, &state.velocities),
+            dt,
+        );
+        if is_runaway(&motion) {
+            let node = motion.fastest_node;
+            let effect = p
+                .effects
+                .strongest_at(node, &state.topology, &state.positions, &state.velocities)
+                .unwrap_or("rapier_step");
+            let message = runaway_message(&motion, p.implicit.is_some(), !p.bodies.joints.is_empty(), dt);
+            return Err(self.fail(node, effect, message));
+        }
+        self.motion = motion;
+        self.steps += 1;
+        self.time += dt;
+        Ok(())
+    }
+
+    /// [`Self::apply_forces`], `world.step()`, [`Self::after_step`]; afterwards
+    /// [`Self::positions`] is current.
+    pub fn step(&mut self, world: &mut PhysicsWorld) -> Result<(), StepError> {
+        self.apply_forces(world)?;
         world.step();
-        let state = &mut self.parts.state;
-        self.parts
-            .bodies
-            .read(world, &mut state.positions, &mut state.velocities);
+        self.after_step(world)
+    }
+
+    /// Records and returns the failure of the current step.
+    fn fail(&mut self, node: usize, effect: &str, message: String) -> StepError {
+        let error = StepError::Diverged {
+            step: self.steps,
+            time_s: self.time,
+            node,
+            effect: effect.to_string(),
+            message,
+        };
+        self.failure = Some(error.clone());
+        error
     }
 
     /// Node positions (m) as of the last read.
@@ -58,6 +149,17 @@ impl KesCloth {
     /// Node velocities (m/s) as of the last read.
     pub fn velocities(&self) -> &[DVec3] {
         &self.parts.state.velocities
+    }
+
+    /// The motion over the latest step: fastest node (m/s), how far nodes actually moved per
+    /// second, largest link strain, kinetic energy (J).
+    pub fn motion(&self) -> &Motion {
+        &self.motion
+    }
+
+    /// Steps taken, and the simulated time they cover (s).
+    pub fn clock(&self) -> (u64, f64) {
+        (self.steps, self.time)
     }
 
     /// The lowest node's height (m).

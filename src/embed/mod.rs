@@ -2,15 +2,26 @@
 //!
 //! - [`ClothBuilder`] adds a cloth (fabric, shape, spacing, pose, pins, effects) to a
 //!   `PhysicsWorld` you own. Scenes use the same builder.
+//!   It integrates implicitly when the world's step is beyond what the fabric's explicit forces
+//!   take, and refuses explicit forces asked for at such a step ([`BuildError`]).
 //! - [`KesCloth`]: the plain-Rapier way. Each frame call [`KesCloth::step`] (our forces, then
-//!   Rapier's step) or [`KesCloth::apply_forces`] before your own `world.step()`.
+//!   Rapier's step) or [`KesCloth::apply_forces`], your own `world.step()` and
+//!   [`KesCloth::after_step`]; a diverging cloth is a [`StepError`] naming step, node and effect.
+//! - [`prepare_world`]: the two Rapier parameters (one substep, no contact recycling) a cloth
+//!   needs to come to rest at the host's step.
 //! - [`install`] and [`spawn_cloth`]: the bevy_ecs way. Our systems go into your `Schedule`
 //!   in the [`crate::schedule::Phase`] sets, so your systems can be ordered around them.
 
+mod build_error;
 mod cloth_builder;
 mod ecs_install;
+mod host_world;
 mod kes_cloth;
+mod step_error;
 
+pub use build_error::BuildError;
 pub use cloth_builder::{ClothBuilder, ClothOutline, ClothParts, Pin};
 pub use ecs_install::{install, spawn_cloth};
+pub use host_world::prepare_world;
 pub use kes_cloth::KesCloth;
+pub use step_error::StepError;

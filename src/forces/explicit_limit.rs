@@ -24,8 +24,7 @@
 //! limit used is therefore ω·dt ≤ [`MAX_OMEGA_DT`].
 //! Link damping is checked on its own (rate·dt < 1/4, `scene::scene_validation`).
 
-use super::LinkCompression;
-use super::StretchModel;
+use super::{EffectChoice, LinkCompression, NodeMass, StretchModel};
 use crate::material::{Fabric, HysteresisLaw, Thread};
 
 /// Largest ω·dt allowed for an explicit force (dimensionless; symplectic Euler's bound is 2).
@@ -104,5 +103,32 @@ pub fn explicit_step_limits(
         )),
     }
     limits.sort_by(|a, b| a.max_step.total_cmp(&b.max_step));
+    limits
+}
+
+/// The explicit step limit of every effect in `choice` for `fabric` at node spacing `spacing`
+/// (m), tightest first, for nodes massed by `node_mass`. With [`NodeMass::CellArea`] an edge
+/// node carries half a cell against an interior node's stiffness along the edge, so every limit
+/// is √2 shorter than [`explicit_step_limits`] gives.
+pub fn step_limits(
+    fabric: &Fabric,
+    spacing: f64,
+    choice: &EffectChoice,
+    node_mass: NodeMass,
+) -> Vec<StepLimit> {
+    let mut limits = explicit_step_limits(
+        fabric,
+        spacing,
+        choice.bending,
+        choice.trellising,
+        choice.hysteresis,
+        choice.stretch,
+        choice.compression_modulus,
+    );
+    if node_mass == NodeMass::CellArea {
+        for limit in &mut limits {
+            limit.max_step /= std::f64::consts::SQRT_2;
+        }
+    }
     limits
 }

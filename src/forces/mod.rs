@@ -50,7 +50,7 @@ pub(crate) use cloth_geometry::cos_angle_gradients;
 pub use cloth_topology::{ClothTopology, NodeMass, SignedLink};
 pub use effects::{EffectChoice, EffectKind, EffectStates, Effects, StretchModel};
 pub(crate) use element_stiffness::outer;
-pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits};
+pub use explicit_limit::{MAX_OMEGA_DT, StepLimit, explicit_step_limits, step_limits};
 pub use force_buffer::ForceBuffer;
 pub use hysteresis::Hysteresis;
 pub use kes_tensile::KesTensile;

@@ -2,6 +2,7 @@
 //! creep check after settling, and per-step progress.
 
 mod creep;
+mod divergence;
 mod drape;
 mod motion;
 mod penetration;
@@ -9,6 +10,10 @@ mod progress;
 mod settle;
 
 pub use creep::{Creep, CreepWatch};
+pub use divergence::{
+    is_runaway, non_finite_force, non_finite_solve_message, non_finite_state, non_finite_state_message,
+    runaway_message,
+};
 pub use drape::{
     DrapeMeasurement, NODE_PROMINENCE, SkirtMeasurement, measure_drape, measure_skirt, peaks, project,
     union_area,

@@ -182,25 +182,19 @@ impl Scene {
 }
 
 /// The explicit step limit of every effect the scene asks for, tightest first
-/// (`forces::explicit_step_limits`). With `cloth.node_mass: CellArea` an edge node carries half
-/// a cell against an interior node's stiffness along the edge, so every limit is √2 shorter.
+/// (`forces::step_limits`).
 pub(crate) fn step_limits(spec: &SceneFile, fabric: &Fabric) -> Vec<crate::forces::StepLimit> {
     let fx = &spec.effects;
-    let mut limits = crate::forces::explicit_step_limits(
-        fabric,
-        spec.cloth.spacing_m,
-        fx.bending,
-        fx.trellising,
-        fx.hysteresis,
-        fx.stretch,
-        fx.compression_modulus_n_per_m,
-    );
-    if spec.cloth.node_mass == crate::forces::NodeMass::CellArea {
-        for limit in &mut limits {
-            limit.max_step /= std::f64::consts::SQRT_2;
-        }
-    }
-    limits
+    let choice = crate::forces::EffectChoice {
+        stretch: fx.stretch,
+        compression_modulus: fx.compression_modulus_n_per_m,
+        bending: fx.bending,
+        trellising: fx.trellising,
+        damping: None,
+        air_drag: None,
+        hysteresis: fx.hysteresis,
+    };
+    crate::forces::step_limits(fabric, spec.cloth.spacing_m, &choice, spec.cloth.node_mass)
 }
 
 /// The stability guard: an explicit step longer than the tightest limit of the scene's effects

@@ -134,7 +134,7 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         let anchor = physics.insert_body(RigidBodyBuilder::fixed().translation(flat[node].as_vec3()));
         builder = builder.pin(topology.grid_coords[node], anchor, glam::Vec3::ZERO);
     }
-    let parts = builder.build_parts(&mut physics);
+    let parts = builder.build_scene_parts(&mut physics);
     let mut world = World::new();
     let entity = spawn_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);

@@ -51,7 +51,7 @@ pub fn sum_forces(clock: Res<Clock>, mut failure: ResMut<Failure>, mut cloths: Q
     for mut state in &mut cloths {
         let state = &mut *state;
         let forces = state.forces.resolve(&state.topology);
-        if let Some(i) = forces.iter().position(|f| !f.is_finite()) {
+        if let Some(i) = crate::measure::non_finite_force(forces) {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,
                 time: clock.time,
@@ -92,17 +92,13 @@ pub fn solve_implicit(
             (clock.dt, gravity),
         );
         ledger.record("implicit_solve", start.elapsed().as_secs_f64());
-        if let Some(i) = forces.iter().position(|f| !f.is_finite()) {
+        if let Some(i) = crate::measure::non_finite_force(forces) {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,
                 time: clock.time,
                 particle: i,
                 effect: String::from("implicit_solve"),
-                message: format!(
-                    "non-finite velocity change (force {:?} N) from the implicit solve: a stiffness \
-                     product or the solve produced NaN",
-                    forces[i]
-                ),
+                message: crate::measure::non_finite_solve_message(forces[i]),
             });
             return;
         }

@@ -4,8 +4,8 @@ use bevy_ecs::prelude::*;
 
 use super::cloth_components::{Clock, ClothNodes, ClothState, Failure, Implicit, Physics, SimulationFailure};
 use crate::measure::{
-    Motion, MovingColliders, Progress, RUNAWAY_SPEED, RUNAWAY_STRAIN, SettleState, WorldColliders,
-    max_penetration, runaway_causes,
+    Motion, MovingColliders, Progress, SettleState, WorldColliders, is_runaway, max_penetration,
+    non_finite_state, non_finite_state_message, runaway_message,
 };
 
 /// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
@@ -24,22 +24,13 @@ pub fn measure_motion(
         nodes
             .0
             .read(&physics.0, &mut state.positions, &mut state.velocities);
-        let bad = state
-            .positions
-            .iter()
-            .zip(&state.velocities)
-            .position(|(x, v)| !x.is_finite() || !v.is_finite());
-        if let Some(i) = bad {
+        if let Some(i) = non_finite_state(&state.positions, &state.velocities) {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,
                 time: clock.time,
                 particle: i,
                 effect: "rapier_step".into(),
-                message: format!(
-                    "node position {:?} m or velocity {:?} m/s is not finite after Rapier's step; \
-                     likely cause: a force or contact too stiff for dt = {} s",
-                    state.positions[i], state.velocities[i], clock.dt
-                ),
+                message: non_finite_state_message(state.positions[i], state.velocities[i], clock.dt),
             });
             return;
         }
@@ -50,19 +41,14 @@ pub fn measure_motion(
             (&state.positions, &state.previous_positions, &state.velocities),
             clock.dt,
         );
-        if now.max_strain > RUNAWAY_STRAIN || now.max_speed > RUNAWAY_SPEED {
+        if is_runaway(&now) {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,
                 time: clock.time,
                 particle: now.fastest_node,
                 // The run loop names the effect pushing hardest on this node.
                 effect: String::from("(runaway)"),
-                message: format!(
-                    "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; {}",
-                    now.max_speed,
-                    now.max_strain * 100.0,
-                    runaway_causes(implicit, !nodes.0.joints.is_empty(), clock.dt)
-                ),
+                message: runaway_message(&now, implicit, !nodes.0.joints.is_empty(), clock.dt),
             });
             return;
         }
