@@ -3,10 +3,17 @@
 //! built-in soft-body cloth (its default warp/weft/shear edges and bend edges, none of our
 //! forces) at the same node count, step and solver settings: the peer baseline.
 //!
+//! The implicit path (`drape_step_implicit`): thick cotton with the KES tensile law, backward
+//! Euler at 1/240 s, cell-area masses and the default (`Auto`) preconditioner, at about 1k, 2k,
+//! 4k, 8k, 16k, 32k and 64k nodes.
+//!
 //! Criterion times a whole step of each. After each size, the split of our step (our force
 //! generators, the implicit solve if any, Rapier's step, and measurement = the rest) is printed
-//! from the scene runner's own per-effect ledger. `KES_BENCH_MAX_NODES` (default 70000) skips
-//! larger sizes for a quick run.
+//! from the scene runner's own per-effect ledger, and for the implicit path the solve's own
+//! split (assembly, preconditioner set-up, conjugate gradients, the rest) and its products a
+//! step; at the end, the fitted exponent of the step's cost in N. `KES_BENCH_MAX_NODES`
+//! (default 70000) skips larger sizes for a quick run; `KES_BENCH_PATH=explicit` or
+//! `implicit` runs one path only (a criterion filter alone still runs every size's warm-up).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -17,7 +24,7 @@ use glam::Vec3;
 use kes_cloth::bodies::{add_world_collider, configure_world};
 use kes_cloth::scene::Scene;
 use kes_cloth::scene::spawn::{spawn, world_shapes};
-use kes_cloth::schedule::{EffectLedger, build_step_schedule};
+use kes_cloth::schedule::{EffectLedger, Implicit, build_step_schedule};
 use rapier3d::prelude::*;
 
 /// Sample diameter (m) of the drape scene.
@@ -78,11 +85,117 @@ fn builtin_cloth(scene: &Scene, nodes: usize) -> PhysicsWorld {
     world
 }
 
-fn bench(c: &mut Criterion) {
-    let max_nodes: usize = std::env::var("KES_BENCH_MAX_NODES")
+/// The implicit drape at about `nodes` nodes: the scene above with the KES tensile law,
+/// backward Euler at 1/240 s and cell-area masses.
+fn implicit_scene(nodes: usize) -> Scene {
+    let spacing = DIAMETER * (std::f64::consts::PI / (4.0 * nodes as f64)).sqrt();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/drape_cotton.ron");
+    let sets = [
+        format!("cloth.spacing_m={spacing}"),
+        format!("cloth.perturbation_m={}", spacing / 20.0),
+        format!("cloth.centre_m=[0.0,{},0.0]", 0.55 * spacing),
+        "integration.dt_s=0.004166666666666667".to_string(),
+        "integration.integrator=Implicit".to_string(),
+        "effects.stretch=Kes".to_string(),
+        "cloth.node_mass=CellArea".to_string(),
+    ];
+    Scene::load(path, &sets).expect("implicit drape scene loads")
+}
+
+/// Steps run before timing the implicit path: 0.1 s at 1/240 s, the sample in contact with the
+/// disk and its skirt falling.
+const IMPLICIT_SETTLE_STEPS: usize = 24;
+
+/// Whether `path` (`explicit` or `implicit`) is to run: `KES_BENCH_PATH` names one, or is unset
+/// for both.
+fn runs(path: &str) -> bool {
+    std::env::var("KES_BENCH_PATH").map_or(true, |p| p == path)
+}
+
+fn max_nodes() -> usize {
+    std::env::var("KES_BENCH_MAX_NODES")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(70_000);
+        .unwrap_or(70_000)
+}
+
+fn bench_implicit(c: &mut Criterion) {
+    if !runs("implicit") {
+        return;
+    }
+    let mut group = c.benchmark_group("drape_step_implicit");
+    group.sample_size(10);
+    let mut points = Vec::new();
+    for nodes in [1_000usize, 2_000, 4_000, 8_000, 16_000, 32_000, 64_000]
+        .into_iter()
+        .filter(|n| *n <= max_nodes())
+    {
+        let scene = implicit_scene(nodes);
+        let (mut world, cloth) = spawn(&scene);
+        let mut schedule = build_step_schedule();
+        for _ in 0..IMPLICIT_SETTLE_STEPS {
+            schedule.run(&mut world);
+        }
+        let actual = scene_node_count(&mut world);
+        *world.resource_mut::<EffectLedger>() = EffectLedger::with_all_effects();
+        let before = world
+            .get::<Implicit>(cloth)
+            .map(|i| i.0.stats)
+            .unwrap_or_default();
+        let start = Instant::now();
+        group.bench_function(BenchmarkId::new("kes", actual), |b| {
+            b.iter(|| schedule.run(black_box(&mut world)))
+        });
+        let wall = start.elapsed().as_secs_f64();
+        let after = world
+            .get::<Implicit>(cloth)
+            .map(|i| i.0.stats)
+            .unwrap_or_default();
+        let ledger = world.resource::<EffectLedger>().clone();
+        print_split(actual, &ledger, wall);
+        let steps = (after.solves - before.solves).max(1) as f64;
+        let per = |a: f64, b: f64| (a - b) / steps * 1e3;
+        let solve = ledger.get("implicit_solve").1 / steps * 1e3;
+        let (assembly, preconditioner, cg) = (
+            per(after.assembly_s, before.assembly_s),
+            per(after.preconditioner_s, before.preconditioner_s),
+            per(after.cg_s, before.cg_s),
+        );
+        eprintln!(
+            "drape_step_implicit/kes/{actual}: solve {solve:.3} ms a step = assembly {assembly:.3} + \
+             preconditioner {preconditioner:.3} + CG {cg:.3} ({:.1} products) + rest {:.3} ms; \
+             step {:.3} ms",
+            (after.iterations - before.iterations) as f64 / steps,
+            solve - assembly - preconditioner - cg,
+            wall / steps * 1e3
+        );
+        points.push((actual as f64, wall / steps));
+    }
+    group.finish();
+    if points.len() >= 2 {
+        // Least squares of ln(step time) against ln(N).
+        let n = points.len() as f64;
+        let (sx, sy) = points
+            .iter()
+            .fold((0.0, 0.0), |(sx, sy), (x, y)| (sx + x.ln(), sy + y.ln()));
+        let (mx, my) = (sx / n, sy / n);
+        let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(sxy, sxx), (x, y)| {
+            (sxy + (x.ln() - mx) * (y.ln() - my), sxx + (x.ln() - mx).powi(2))
+        });
+        eprintln!(
+            "drape_step_implicit: step time ∝ N^{:.2} from {} to {} nodes",
+            sxy / sxx,
+            points[0].0,
+            points[points.len() - 1].0
+        );
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    if !runs("explicit") {
+        return;
+    }
+    let max_nodes = max_nodes();
     let mut group = c.benchmark_group("drape_step");
     group.sample_size(10);
     for nodes in [1_000usize, 4_000, 16_000, 64_000]
@@ -152,5 +265,5 @@ fn print_split(nodes: usize, ledger: &EffectLedger, wall: f64) {
     );
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_implicit);
 criterion_main!(benches);

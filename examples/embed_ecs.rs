@@ -1,13 +1,14 @@
-//! KES cloth inside a user's bevy_ecs world: kes-cloth's systems go into the user's schedule,
-//! and a user system, ordered before kes-cloth's forces, moves a kinematic hook that holds one
-//! corner. Prints the corner's and the cloth's lowest point's heights.
+//! KES cloth inside a user's bevy_ecs world at the host's fixed step (1/60 s): kes-cloth's
+//! systems go into the user's schedule, and a user system, ordered before kes-cloth's forces,
+//! moves a kinematic hook that holds one corner. Prints the corner's and the cloth's lowest
+//! point's heights.
 
 use bevy_ecs::prelude::*;
 use glam::{DVec3, Vec3};
 use kes_cloth::embed::{ClothBuilder, ClothOutline, install, spawn_cloth};
 use kes_cloth::material::Fabric;
 use kes_cloth::scene::SettleSpec;
-use kes_cloth::schedule::{Clock, ClothState, Phase, Physics};
+use kes_cloth::schedule::{Clock, ClothState, Failure, Phase, Physics};
 use rapier3d::prelude::*;
 
 /// The user's kinematic hook.
@@ -23,10 +24,11 @@ fn lift_hook(hook: Res<Hook>, clock: Res<Clock>, mut physics: ResMut<Physics>) {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // The host's fixed step: Rapier's default 1/60 s. The builder integrates the cloth
+    // implicitly there; `prepare_world` sets the two Rapier parameters it needs to come to rest.
     let mut physics = PhysicsWorld::default();
-    physics.integration_parameters.dt = 1.0 / 4000.0;
-    physics.integration_parameters.num_solver_iterations = 1;
-    physics.integration_parameters.num_internal_pgs_iterations = 4;
+    kes_cloth::embed::prepare_world(&mut physics.integration_parameters);
+    let dt = physics.integration_parameters.dt as f64;
     let hook = physics.insert_body(
         RigidBodyBuilder::kinematic_position_based()
             .translation(Vector::new(-0.1, 0.3, -0.1))
@@ -47,13 +49,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut world = World::new();
     let cloth = spawn_cloth(&mut world, parts);
-    kes_cloth::scene::spawn::insert_resources(&mut world, physics, 1.0 / 4000.0, &SettleSpec::default());
+    kes_cloth::scene::spawn::insert_resources(&mut world, physics, dt, &SettleSpec::default());
     world.insert_resource(Hook(hook));
     let mut schedule = Schedule::default();
     install(&mut schedule);
     schedule.add_systems(lift_hook.before(Phase::Forces));
-    for _ in 0..4000 {
+    for _ in 0..(1.0 / dt).round() as usize {
         schedule.run(&mut world);
+    }
+    // A diverging cloth stops our systems and leaves its step, node and effect here.
+    if let Some(failure) = &world.resource::<Failure>().0 {
+        return Err(format!("the cloth diverged: {failure:?}").into());
     }
     let state = world.get::<ClothState>(cloth).ok_or("cloth")?;
     let lowest = state.positions.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);

@@ -1,5 +1,6 @@
 //! A flag: a cloth pinned along one edge to a kinematic pole that moves through still air, so
-//! air drag streams it out behind. Prints how far the free edge trails the pole.
+//! air drag streams it out behind, at Rapier's default step (1/60 s). Prints how far the free
+//! edge trails the pole (0.295 m, and 0.053 m below it, with explicit forces at 1/4000 s).
 
 use glam::{DVec3, Vec3};
 use kes_cloth::embed::{ClothBuilder, ClothOutline};
@@ -7,10 +8,10 @@ use kes_cloth::material::Fabric;
 use rapier3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // Rapier's default step, 1/60 s: the builder integrates the cloth implicitly there, and the
+    // solve moves the pinned edge with the pole.
     let mut world = PhysicsWorld::default();
-    world.integration_parameters.dt = 1.0 / 4000.0;
-    world.integration_parameters.num_solver_iterations = 1;
-    world.integration_parameters.num_internal_pgs_iterations = 4;
+    kes_cloth::embed::prepare_world(&mut world.integration_parameters);
     let speed = 3.0f32; // m/s along −x: the wind blows the flag towards +x.
     let pole = world.insert_body(
         RigidBodyBuilder::kinematic_velocity_based()
@@ -34,7 +35,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         builder = builder.pin((0, j), pole, Vec3::new(0.0, 1.0, -0.1 + 0.02 * j as f32));
     }
     let mut cloth = builder.build(&mut world)?;
-    for _ in 0..8000 {
+    // The pole speeds up over the first half second: started at 3 m/s at once, it would move
+    // the pinned edge 5 cm (2.5 spacings) in the first step, more than one linear solve of the
+    // KES law, linearised at rest, can follow (the step stops at 156 % strain).
+    let dt = world.integration_parameters.dt;
+    for k in 0..120 {
+        let ramp = ((k as f32 + 1.0) * dt / 0.5).min(1.0);
+        if let Some(body) = world.bodies.get_mut(pole) {
+            body.set_linvel(Vector::new(-speed * ramp, 0.0, 0.0), true);
+        }
         cloth.step(&mut world)?;
     }
     let pole_x = world.bodies.get(pole).ok_or("pole")?.translation().x as f64;

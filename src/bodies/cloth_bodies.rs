@@ -37,6 +37,9 @@ pub struct ClothBodies {
     pub joints: Vec<ImpulseJointHandle>,
     /// Mass of each node (kg), in particle order.
     pub masses: Vec<f64>,
+    /// Nodes pinned to a kinematic body: (node, body, anchor in the body's frame, m). The
+    /// implicit solve moves each with its pin ([`Self::read_pin_velocities`]).
+    pub moving_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
 }
 
 impl ClothBodies {
@@ -95,6 +98,32 @@ impl ClothBodies {
             handles,
             joints,
             masses: options.masses.clone(),
+            moving_pins: Vec::new(),
+        }
+    }
+
+    /// The velocity (m/s) each node pinned to a kinematic body will have over the coming step
+    /// of `dt` (s): the anchor's displacement to the body's next pose over `dt` for a
+    /// position-based body, the body's velocity at the anchor for a velocity-based one; `None`
+    /// for every other node.
+    pub fn read_pin_velocities(&self, world: &PhysicsWorld, dt: f64, out: &mut Vec<Option<DVec3>>) {
+        out.clear();
+        out.resize(self.handles.len(), None);
+        for &(node, body, anchor) in &self.moving_pins {
+            let Some(b) = world.bodies.get(body) else {
+                continue;
+            };
+            let now = b.position().transform_point(anchor);
+            let velocity = match b.body_type() {
+                RigidBodyType::KinematicPositionBased => {
+                    (b.next_position().transform_point(anchor) - now) / dt as f32
+                }
+                RigidBodyType::KinematicVelocityBased => b.velocity_at_point(now),
+                _ => continue,
+            };
+            if let Some(slot) = out.get_mut(node) {
+                *slot = Some(velocity.as_dvec3());
+            }
         }
     }
 

@@ -435,13 +435,16 @@ impl ClothBuilder {
             self_collision: self.self_collision,
             gravity: self.gravity,
         };
-        let bodies = ClothBodies::spawn(world, &topology, &positions, &options);
+        let mut bodies = ClothBodies::spawn(world, &topology, &positions, &options);
         // Nodes pinned to a body that cannot move: the implicit solve holds them too.
         let mut held = Vec::new();
         for pin in &self.pins {
             if let Some(node) = topology.grid_coords.iter().position(|&c| c == pin.node) {
                 if world.bodies.get(pin.body).is_some_and(|b| !b.is_dynamic()) {
                     held.push(node);
+                }
+                if world.bodies.get(pin.body).is_some_and(|b| b.is_kinematic()) {
+                    bodies.moving_pins.push((node, pin.body, pin.anchor));
                 }
                 let joint = SphericalJointBuilder::new()
                     .local_anchor1(pin.anchor)

@@ -67,6 +67,8 @@ impl KesCloth {
         if let Some(implicit) = &mut p.implicit {
             p.bodies.read_supports(world, &mut implicit.supports);
             let h = world.integration_parameters.dt as f64;
+            p.bodies
+                .read_pin_velocities(world, h, &mut implicit.pin_velocities);
             let forces = &mut state.forces.particle;
             let g = p.bodies.gravity(world);
             let generators: Vec<_> = p.effects.iter().map(Some).collect();

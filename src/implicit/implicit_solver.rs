@@ -82,6 +82,17 @@ pub struct ImplicitStats {
     pub factorisations: u64,
     /// The last solve.
     pub last: CgReport,
+    /// Wall time over all solves (s) spent assembling the system: every generator's stiffness
+    /// and damping blocks, the right-hand side and the particle rows.
+    #[serde(default)]
+    pub assembly_s: f64,
+    /// Wall time over all solves (s) spent setting up the preconditioner (block inverses,
+    /// thread-line and coarse factorisations, the sparse Cholesky factor).
+    #[serde(default)]
+    pub preconditioner_s: f64,
+    /// Wall time over all solves (s) in the conjugate gradients themselves.
+    #[serde(default)]
+    pub cg_s: f64,
 }
 
 /// The implicit solve of one cloth: settings, node mass, warm start and scratch buffers.
@@ -133,8 +144,14 @@ pub struct ImplicitSolver {
     pressed: Vec<bool>,
     /// b + h·M·g before the filter, for the surfaces' impulses A·Δv − b.
     unfiltered_rhs: Vec<DVec3>,
-    /// Nodes pinned to a body that cannot move: their Δv is held at zero, as the pin will.
+    /// Nodes pinned to a body that is not dynamic (fixed or kinematic): their Δv is
+    /// prescribed, as the pin will, by [`Self::pin_velocities`].
     held: Vec<bool>,
+    /// For each node pinned to a moving (kinematic) body, the velocity (m/s) its pin will have
+    /// over the coming step, which the solve gives the node; `None` elsewhere, where a held
+    /// node's Δv is zero. Set before each [`Self::solve`] (e.g. by
+    /// [`crate::bodies::ClothBodies::read_pin_velocities`]).
+    pub pin_velocities: Vec<Option<DVec3>>,
     /// The sparse Cholesky preconditioner, built at the first solve that asks for it (`None`
     /// before, with block Jacobi, or if faer could not analyse the system).
     cholesky: Option<SparseCholesky>,
@@ -242,6 +259,7 @@ impl ImplicitSolver {
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
+            pin_velocities: vec![None; n],
             cholesky: None,
             lines: None,
             coarse: None,
@@ -304,6 +322,7 @@ impl ImplicitSolver {
         // the filter keeps off the surface is released, pulled back onto it by the cloth, and
         // held again, every other step.
         let factorisations_before = self.factorisations();
+        let assembly_start = std::time::Instant::now();
         // The step the system is assembled at, and the scheme's velocities: Rapier's, or with
         // BDF2 Rapier's plus each node's lag (scheme.rs).
         let rapier_velocities = velocities;
@@ -421,6 +440,7 @@ impl ImplicitSolver {
             }
         }
         self.rows.assemble(matrix);
+        self.stats.assembly_s += assembly_start.elapsed().as_secs_f64();
         let (rows, ax) = (&self.rows, &mut self.ax);
         // The error δv = A⁻¹·r has |r|_P² ≈ rᵀ·A⁻¹·r = δvᵀ·A·δv ≥ Σ m·|δv|², so a residual below
         // √(Σm)·ε leaves a mass-weighted RMS velocity error below about ε.
@@ -442,7 +462,13 @@ impl ImplicitSolver {
             let mut any_prescribed = false;
             for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
                 let n = normals[i];
-                *z = if self.held[i] || !self.friction || n == DVec3::ZERO {
+                *z = if self.held[i] {
+                    self.pin_velocities
+                        .get(i)
+                        .copied()
+                        .flatten()
+                        .map_or(DVec3::ZERO, |u| u - *v)
+                } else if !self.friction || n == DVec3::ZERO {
                     DVec3::ZERO
                 } else if self.fixed[i] {
                     -*v
@@ -493,6 +519,7 @@ impl ImplicitSolver {
                     DMat3::IDENTITY - outer(n, n)
                 };
             }
+            let preconditioner_start = std::time::Instant::now();
             let active = match self.method {
                 Preconditioner::Cholesky { refactor_above } => {
                     let due = self.last_products > refactor_above;
@@ -551,6 +578,7 @@ impl ImplicitSolver {
                     };
                 }
             }
+            self.stats.preconditioner_s += preconditioner_start.elapsed().as_secs_f64();
             let (cholesky, lines, preconditioner) =
                 (&mut self.cholesky, &mut self.lines, &self.preconditioner);
             let coarse = match self.method {
@@ -586,8 +614,10 @@ impl ImplicitSolver {
                 }
             };
             let [r, z, p, ap] = &mut self.scratch;
+            let cg_start = std::time::Instant::now();
             let this_pass =
                 conjugate_gradient(apply, precondition, &self.rhs, &mut self.dv, (r, z, p, ap), stop);
+            self.stats.cg_s += cg_start.elapsed().as_secs_f64();
             self.last_products = this_pass.iterations;
             report = CgReport {
                 iterations: report.iterations + this_pass.iterations,

@@ -80,6 +80,9 @@ pub fn solve_implicit(
         let start = Instant::now();
         let solver = &mut implicit.0;
         nodes.0.read_supports(&physics.0, &mut solver.supports);
+        nodes
+            .0
+            .read_pin_velocities(&physics.0, clock.dt, &mut solver.pin_velocities);
         let state = &mut *state;
         let generators: Vec<_> = effects.0.iter().map(Some).collect();
         let forces = &mut state.forces.particle;
