@@ -3,6 +3,7 @@
 use glam::DVec3;
 use rapier3d::prelude::*;
 
+use super::{encode_normal, sheet_normals};
 use crate::forces::ClothTopology;
 use crate::implicit::Supports;
 
@@ -73,6 +74,7 @@ impl ClothBodies {
                     .mass(mass as f32)
                     .friction(0.0)
                     .collision_groups(groups)
+                    .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
                     .build();
                 world.insert_collider(ball, Some(handle));
                 handle
@@ -217,6 +219,84 @@ impl ClothBodies {
                 *mu = touching_friction;
             }
         }
+    }
+
+    /// Writes the cloth's unit surface normal at every node into its body's `user_data`, where
+    /// [`super::SheetContacts`] reads it during the coming step.
+    pub fn write_sheet_normals(
+        &self,
+        world: &mut PhysicsWorld,
+        topology: &ClothTopology,
+        positions: &[DVec3],
+    ) {
+        let mut normals = Vec::new();
+        sheet_normals(topology, positions, &mut normals);
+        for (h, n) in self.handles.iter().zip(&normals) {
+            if let Some(body) = world.bodies.get_mut(*h) {
+                body.user_data = encode_normal(n.as_vec3());
+            }
+        }
+    }
+
+    /// Makes every node resting on a fixed or kinematic surface (`supports`) immovable to the
+    /// host's dynamic bodies for the coming step (a higher Rapier dominance group), and every
+    /// other node an ordinary dynamic body. A body landing on the cloth where a support backs it
+    /// then stops on the cloth as it would on the support, instead of driving nodes a thousand
+    /// times lighter than itself through the support within one step; the body's push still
+    /// reaches the cloth, one step later, through [`Self::read_body_loads`].
+    pub fn back_supported_nodes(&self, world: &mut PhysicsWorld, supports: &Supports) {
+        for ((h, pushed), touching) in self.handles.iter().zip(&supports.pushed).zip(&supports.touching) {
+            let backed = *pushed != DVec3::ZERO || *touching != DVec3::ZERO;
+            if let Some(body) = world.bodies.get_mut(*h) {
+                let group = i8::from(backed);
+                if body.dominance_group() != group {
+                    body.set_dominance_group(group);
+                }
+            }
+        }
+    }
+
+    /// The force (N) each node received from the host's dynamic bodies over Rapier's last step:
+    /// the normal impulses of their contacts over the step `dt` (s), pushing the node away from
+    /// the body. Friction between a body and the cloth acts on the body but is not handed back.
+    pub fn read_body_loads(&self, world: &PhysicsWorld, dt: f64, loads: &mut Vec<DVec3>) {
+        loads.clear();
+        loads.resize(self.handles.len(), DVec3::ZERO);
+        for (h, load) in self.handles.iter().zip(loads.iter_mut()) {
+            let Some(body) = world.bodies.get(*h) else {
+                continue;
+            };
+            for &node_collider in body.colliders() {
+                for pair in world.contact_pairs_with(node_collider) {
+                    let node_first = pair.collider1 == node_collider;
+                    let other = if node_first {
+                        pair.collider2
+                    } else {
+                        pair.collider1
+                    };
+                    let pushing_body = world
+                        .colliders
+                        .get(other)
+                        .and_then(|c| c.parent())
+                        .and_then(|b| world.bodies.get(b))
+                        .is_some_and(|b| b.is_dynamic() && !self.is_node(b));
+                    if !pushing_body {
+                        continue;
+                    }
+                    for manifold in pair.manifolds() {
+                        // The normal points from collider 1 to collider 2.
+                        let away = manifold.data.normal.as_dvec3() * if node_first { -1.0 } else { 1.0 };
+                        let impulse: f64 = manifold.points.iter().map(|p| p.data.impulse as f64).sum();
+                        *load += away * (impulse / dt);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether `body` is a cloth node (of any cloth): nodes carry a surface normal.
+    fn is_node(&self, body: &RigidBody) -> bool {
+        super::sheet_contacts::is_node(body)
     }
 
     /// Hands our node forces (N) to Rapier for the next step as a velocity kick F·dt/m (m the

@@ -8,9 +8,12 @@
 //! here alone.
 
 mod cloth_bodies;
+mod sheet_contacts;
 mod world_colliders;
 mod world_settings;
 
 pub use cloth_bodies::{ClothBodies, NodeOptions, TOUCH_DISTANCE};
+pub use sheet_contacts::SheetContacts;
+pub(crate) use sheet_contacts::{encode_normal, sheet_normals};
 pub use world_colliders::{ThrownBody, WorldShape, add_world_collider};
 pub use world_settings::{ContactStiffness, configure_world};

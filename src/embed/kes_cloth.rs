@@ -4,13 +4,17 @@ use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
 use super::{ClothParts, StepError};
+use crate::bodies::SheetContacts;
 use crate::measure::{
     Motion, is_runaway, non_finite_force, non_finite_solve_message, non_finite_state,
     non_finite_state_message, runaway_message,
 };
 
 /// A cloth in a user's Rapier world. Each frame: [`KesCloth::step`], or
-/// [`KesCloth::apply_forces`], your own `world.step()`, then [`KesCloth::after_step`].
+/// [`KesCloth::apply_forces`], your own `world.step_with_events(&SheetContacts, &())` (or
+/// `world.step()` if no dynamic body touches the cloth), then [`KesCloth::after_step`].
+///
+/// [`SheetContacts`]: super::SheetContacts
 ///
 /// Every step runs the scenes' divergence checks (`docs/model.md` §11) and returns a
 /// [`StepError`] naming the step, the node and the effect instead of letting a diverging cloth
@@ -25,6 +29,8 @@ pub struct KesCloth {
     failure: Option<StepError>,
     /// The motion of the latest step.
     motion: Motion,
+    /// Force (N) on each node from the host's dynamic bodies over the latest step.
+    body_loads: Vec<DVec3>,
 }
 
 impl KesCloth {
@@ -36,6 +42,7 @@ impl KesCloth {
             time: 0.0,
             failure: None,
             motion: Motion::default(),
+            body_loads: Vec::new(),
         }
     }
 
@@ -56,6 +63,9 @@ impl KesCloth {
         p.effects
             .add_forces(&state.geometry, &state.velocities, &mut state.forces);
         state.forces.resolve(&state.topology);
+        for (f, load) in state.forces.particle.iter_mut().zip(&self.body_loads) {
+            *f += *load;
+        }
         if let Some(node) = non_finite_force(&state.forces.particle) {
             let effect = p
                 .effects
@@ -66,6 +76,7 @@ impl KesCloth {
         }
         if let Some(implicit) = &mut p.implicit {
             p.bodies.read_supports(world, &mut implicit.supports);
+            p.bodies.back_supported_nodes(world, &implicit.supports);
             let h = world.integration_parameters.dt as f64;
             p.bodies
                 .read_pin_velocities(world, h, &mut implicit.pin_velocities);
@@ -80,6 +91,8 @@ impl KesCloth {
         }
         let p = &mut self.parts;
         p.bodies.write_forces(world, &p.state.forces.particle);
+        p.bodies
+            .write_sheet_normals(world, &p.state.topology, &p.state.positions);
         Ok(())
     }
 
@@ -97,6 +110,7 @@ impl KesCloth {
         let state = &mut p.state;
         std::mem::swap(&mut state.positions, &mut state.previous_positions);
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
+        p.bodies.read_body_loads(world, dt, &mut self.body_loads);
         if let Some(node) = non_finite_state(&state.positions, &state.velocities) {
             let message = non_finite_state_message(state.positions[node], state.velocities[node], dt);
             return Err(self.fail(node, "rapier_step", message));
@@ -122,11 +136,11 @@ impl KesCloth {
         Ok(())
     }
 
-    /// [`Self::apply_forces`], `world.step()`, [`Self::after_step`]; afterwards
+    /// [`Self::apply_forces`], Rapier's step with [`super::SheetContacts`], [`Self::after_step`]; afterwards
     /// [`Self::positions`] is current.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> Result<(), StepError> {
         self.apply_forces(world)?;
-        world.step();
+        world.step_with_events(&SheetContacts, &());
         self.after_step(world)
     }
 

@@ -5,8 +5,10 @@
 //!   It integrates implicitly when the world's step is beyond what the fabric's explicit forces
 //!   take, and refuses explicit forces asked for at such a step ([`BuildError`]).
 //! - [`KesCloth`]: the plain-Rapier way. Each frame call [`KesCloth::step`] (our forces, then
-//!   Rapier's step) or [`KesCloth::apply_forces`], your own `world.step()` and
-//!   [`KesCloth::after_step`]; a diverging cloth is a [`StepError`] naming step, node and effect.
+//!   Rapier's step) or [`KesCloth::apply_forces`], your own
+//!   `world.step_with_events(&SheetContacts, &())` and [`KesCloth::after_step`]; a diverging
+//!   cloth is a [`StepError`] naming step, node and effect. [`SheetContacts`] makes your dynamic
+//!   bodies meet the cloth's surface, not its node balls (`docs/rapier.md`).
 //! - [`prepare_world`]: the two Rapier parameters (one substep, no contact recycling) a cloth
 //!   needs to come to rest at the host's step.
 //! - [`install`] and [`spawn_cloth`]: the bevy_ecs way. Our systems go into your `Schedule`
@@ -19,6 +21,7 @@ mod host_world;
 mod kes_cloth;
 mod step_error;
 
+pub use crate::bodies::SheetContacts;
 pub use build_error::BuildError;
 pub use cloth_builder::{ClothBuilder, ClothOutline, ClothParts, Pin};
 pub use ecs_install::{install, spawn_cloth};
