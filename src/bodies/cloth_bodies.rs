@@ -222,16 +222,16 @@ impl ClothBodies {
     }
 
     /// Writes the cloth's unit surface normal at every node into its body's `user_data`, where
-    /// [`super::SheetContacts`] reads it during the coming step.
+    /// [`super::SheetContacts`] reads it during the coming step; `normals` is scratch space.
     pub fn write_sheet_normals(
         &self,
         world: &mut PhysicsWorld,
         topology: &ClothTopology,
         positions: &[DVec3],
+        normals: &mut Vec<DVec3>,
     ) {
-        let mut normals = Vec::new();
-        sheet_normals(topology, positions, &mut normals);
-        for (h, n) in self.handles.iter().zip(&normals) {
+        sheet_normals(topology, positions, normals);
+        for (h, n) in self.handles.iter().zip(normals.iter()) {
             if let Some(body) = world.bodies.get_mut(*h) {
                 body.user_data = encode_normal(n.as_vec3());
             }

@@ -31,6 +31,8 @@ pub struct KesCloth {
     motion: Motion,
     /// Force (N) on each node from the host's dynamic bodies over the latest step.
     body_loads: Vec<DVec3>,
+    /// Scratch space for the nodes' surface normals.
+    normals: Vec<DVec3>,
 }
 
 impl KesCloth {
@@ -43,6 +45,7 @@ impl KesCloth {
             failure: None,
             motion: Motion::default(),
             body_loads: Vec::new(),
+            normals: Vec::new(),
         }
     }
 
@@ -92,7 +95,7 @@ impl KesCloth {
         let p = &mut self.parts;
         p.bodies.write_forces(world, &p.state.forces.particle);
         p.bodies
-            .write_sheet_normals(world, &p.state.topology, &p.state.positions);
+            .write_sheet_normals(world, &p.state.topology, &p.state.positions, &mut self.normals);
         Ok(())
     }
 
