@@ -195,7 +195,7 @@ fn check_describes_the_thrown_ball_and_the_contact_stiffness() {
     let scene = Scene::load(common::crate_path("scenes/hard/heavy_ball_impact.ron"), &[]).unwrap();
     let text = kes_cloth::scene::describe(&scene);
     assert!(
-        text.contains("dynamic, 0.01 kg thrown at [0.0, -10.0, 0.0] m/s"),
+        text.contains("dynamic, 0.01 kg thrown at (0, -10, 0) m/s"),
         "{text}"
     );
     assert!(

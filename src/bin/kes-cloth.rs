@@ -22,11 +22,40 @@ use kes_cloth::scene::Scene;
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.0002,0.0001   accuracy vs time\n  kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005   DC at zero spacing, with its uncertainty\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth fabric import my_kes_results.csv --out my_fabrics   fabric files from a KES table\n  kes-cloth drape my_fabrics/NAME.ron --tester cusick-30   a fabric file on a built-in tester\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary integration.dt_s=0.0002,0.0001   accuracy vs time\n  kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005   DC at zero spacing, with its uncertainty\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
 )]
 struct Cli {
     #[command(subcommand)]
     command: Command,
+}
+
+/// What a run writes and how it repeats: shared by `run` and `drape`.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Output folder [default: out/<scene name>].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Override a scene field by its path, e.g. `integration.dt_s=0.0005`,
+    /// `cloth.spacing_m=0.008`, `seed=7`, `effects.stretch=Kes`, `cloth.centre_m=(0, 0.02, 0)`,
+    /// `world.colliders.0.friction=0` (a list element by its index), `cloth.pins_m=[(0, 0.5,
+    /// 0), (0.1, 0.5, 0)]`, `"world.colliders.0.motion=Dynamic(mass_kg: 0.05,
+    /// velocity_m_per_s: (0, -10, 0))"` (values are written as in the scene file; quote them
+    /// for the shell). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// No progress bar and no summary.
+    #[arg(long)]
+    quiet: bool,
+    /// Repeat the run with seeds 0..N-1 of the initial perturbation (on all cores), write
+    /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
+    #[arg(long, value_name = "N")]
+    repeat: Option<usize>,
+    /// With --repeat on a circular cloth: also shift the node lattice against the outline in
+    /// each run (an even spread over ± half a spacing; run 0 keeps the scene's lattice), so the spread of
+    /// DC and nodes includes where the grid falls against the disk's rim. At 1 cm this
+    /// alone moves DC by up to 0.11 for thin wool (docs/accuracy.md).
+    #[arg(long, requires = "repeat")]
+    placements: bool,
 }
 
 #[derive(Subcommand)]
@@ -41,30 +70,8 @@ enum Command {
     Run {
         /// The scene file (RON).
         scene: PathBuf,
-        /// Output folder [default: out/<scene name>].
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-        /// Override a scene field by its path, e.g. `integration.dt_s=0.0005`,
-        /// `cloth.spacing_m=0.008`, `seed=7`, `effects.stretch=Kes`, `cloth.centre_m=(0, 0.02, 0)`,
-        /// `world.colliders.0.friction=0` (a list element by its index), `cloth.pins_m=[(0, 0.5,
-        /// 0), (0.1, 0.5, 0)]`, `"world.colliders.0.motion=Dynamic(mass_kg: 0.05,
-        /// velocity_m_per_s: (0, -10, 0))"` (values are written as in the scene file; quote them
-        /// for the shell). Repeatable.
-        #[arg(long = "set", value_name = "KEY=VALUE")]
-        set: Vec<String>,
-        /// No progress bar and no summary.
-        #[arg(long)]
-        quiet: bool,
-        /// Repeat the run with seeds 0..N-1 of the initial perturbation (on all cores), write
-        /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
-        #[arg(long, value_name = "N")]
-        repeat: Option<usize>,
-        /// With --repeat on a circular cloth: also shift the node lattice against the outline in
-        /// each run (an even spread over ± half a spacing; run 0 keeps the scene's lattice), so the spread of
-        /// DC and nodes includes where the grid falls against the disk's rim. At 1 cm this
-        /// alone moves DC by up to 0.11 for thin wool (docs/accuracy.md).
-        #[arg(long, requires = "repeat")]
-        placements: bool,
+        #[command(flatten)]
+        args: RunArgs,
         /// Write `DIR/checkpoint.cbor` every SECONDS of simulated time (and on Ctrl-C), so that
         /// `kes-cloth resume DIR` can continue the run; the resumed run ends exactly where an
         /// uninterrupted one would.
@@ -192,6 +199,29 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
+    /// Drape a fabric file on a built-in tester, without writing a scene.
+    ///
+    /// The tester's specimen, disk or table and settle criterion are the shipped scenes'
+    /// (scenes/drape_*.ron, scenes/cusick_*.ron, scenes/tablecloth_*.ron); the lattice spacing
+    /// and the explicit step are chosen from the fabric as the shipped scenes' are: on the
+    /// drapemeters the coarsest of 10, 7.5, 5, 3.75, 2.5 mm within half the fabric's shorter
+    /// bending length (the tablecloth keeps 1 cm), and the largest round step (1, 0.8, 0.5, 0.4,
+    /// 0.25, 0.2, 0.125, 0.1 ms, ...) the stability guard allows. Writes what `run` writes, into
+    /// DIR (default out/<tester>-<fabric file name>/).
+    ///
+    /// Example: kes-cloth drape assets/fabrics/thin_wool.ron --tester cusick-30 --repeat 3
+    Drape {
+        /// The fabric file (RON, KES units; `kes-cloth fabric import` writes them from a table).
+        fabric: PathBuf,
+        /// The tester.
+        #[arg(long, value_enum, default_value = "seed")]
+        tester: TesterArg,
+        #[command(flatten)]
+        args: RunArgs,
+    },
+    /// Fabric files: import them from a KES table (CSV), or check one.
+    #[command(subcommand)]
+    Fabric(FabricCommand),
     /// Validate a scene and print its resolved parameters in SI, without running it.
     Check {
         /// The scene file (RON).
@@ -202,56 +232,67 @@ enum Command {
     },
 }
 
+/// What `kes-cloth fabric` does.
+#[derive(Subcommand)]
+enum FabricCommand {
+    /// Write one fabric file (RON, KES units) per row of a CSV table of KES-F results.
+    ///
+    /// The header names the columns as KES reports do: name, source, W, T, B-1, B-2 (or B for
+    /// both directions), 2HB-1, 2HB-2 (or 2HB), G, 2HG, 2HG5, LT-1, LT-2, WT-1, WT-2, RT-1, RT-2,
+    /// EMT-1, EMT-2 (or LT, WT, RT, EMT); -1 is the warp, -2 the weft ("B warp", "B_weft" work
+    /// too). Units are KES's own: W mg/cm², T mm, B gf·cm²/cm, 2HB gf·cm/cm, G gf/(cm·deg),
+    /// 2HG and 2HG5 gf/cm, LT dimensionless, WT gf·cm/cm², RT and EMT %. A units row may follow
+    /// the header (its name cell reads "units"); W may then be in g/m². Every row is validated
+    /// as a fabric file is; an error names the row and column. `source` must say where the
+    /// numbers come from.
+    ///
+    /// Example: kes-cloth fabric import assets/fabrics/example_kes_table.csv --out my_fabrics
+    Import {
+        /// The CSV table, one fabric per row.
+        table: PathBuf,
+        /// Folder for the fabric files, named after each fabric [default: fabrics].
+        #[arg(long, value_name = "DIR", default_value = "fabrics")]
+        out: PathBuf,
+    },
+    /// Print a fabric file's values in KES and SI units, with its bending lengths.
+    ///
+    /// Example: kes-cloth fabric check assets/fabrics/thin_wool.ron
+    Check {
+        /// The fabric file (RON, KES units).
+        fabric: PathBuf,
+    },
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run {
             scene,
-            out,
-            set,
-            quiet,
-            repeat,
-            placements,
+            args,
             checkpoint_every,
         } => {
-            let scene = match Scene::load(&scene, &set) {
+            let scene = match Scene::load(&scene, &args.set) {
                 Ok(s) => s,
                 Err(e) => return fail(&e),
             };
-            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.spec.name));
-            if let Some(n) = repeat {
-                if checkpoint_every.is_some() {
-                    return fail(&"--checkpoint-every applies to a single run, not to --repeat");
-                }
-                return run_repeats(&scene, n, placements, &dir, quiet);
-            }
-            // A checkpoint left in DIR by an earlier run is not this run's to resume.
-            let stale = dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE);
-            if stale.exists()
-                && let Err(e) = std::fs::remove_file(&stale)
-            {
-                return fail(&format!(
-                    "{}: cannot remove the earlier run's checkpoint: {e}",
-                    stale.display()
-                ));
-            }
-            if let Some(every) = checkpoint_every
-                && !(every.is_finite() && every > 0.0)
-            {
-                return fail(&format!(
-                    "--checkpoint-every = {every}: must be a positive number of simulated seconds"
-                ));
-            }
-            let options = RunOptions {
-                progress: !quiet && std::io::stderr().is_terminal(),
-                checkpoint: checkpoint_every.map(|every_s| CheckpointPlan {
-                    dir: dir.clone(),
-                    every_s,
-                }),
-                interrupt: Some(interrupt_flag()),
+            run_scene(&scene, args, checkpoint_every)
+        }
+        Command::Drape { fabric, tester, args } => {
+            let tester = kes_cloth::scene::Tester::from(tester);
+            let scene = match kes_cloth::scene::tester_scene(tester, &fabric, &args.set) {
+                Ok(s) => s,
+                Err(e) => return fail(&e),
             };
-            let outcome = simulate(&scene, &options);
-            finish_run(&scene, &outcome, &dir, quiet)
+            if !args.quiet {
+                eprintln!(
+                    "{} on the {} tester: spacing {} m, explicit step {} s",
+                    scene.fabric.name,
+                    tester.name(),
+                    scene.spec.cloth.spacing_m,
+                    scene.spec.integration.dt_s
+                );
+            }
+            run_scene(&scene, args, None)
         }
         Command::Resume { dir, quiet } => {
             let options = RunOptions {
@@ -303,6 +344,16 @@ fn main() -> ExitCode {
             json,
             out,
         } => run_kes_lab(&fabric, spacing_m, !no_hysteresis, json, out),
+        Command::Fabric(FabricCommand::Import { table, out }) => import_fabrics(&table, &out),
+        Command::Fabric(FabricCommand::Check { fabric }) => {
+            match kes_cloth::material::Fabric::load_with_kes(&fabric) {
+                Ok((kes, fabric)) => {
+                    print!("{}", kes_cloth::output::fabric_sheet(&kes, &fabric));
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(&e),
+            }
+        }
         Command::Check { scene, set } => match Scene::load(&scene, &set) {
             Ok(s) => {
                 println!("{}", kes_cloth::scene::describe(&s));
@@ -546,4 +597,115 @@ fn run_kes_lab(
 fn fail(e: &dyn std::fmt::Display) -> ExitCode {
     eprintln!("error: {e}");
     ExitCode::FAILURE
+}
+
+/// `kes-cloth fabric import`: validates every row first, then writes one file per fabric.
+fn import_fabrics(table: &std::path::Path, out: &std::path::Path) -> ExitCode {
+    use kes_cloth::material::{fabric_file_stem, fabric_file_text, read_kes_table};
+    let fabrics = match read_kes_table(table) {
+        Ok(f) => f,
+        Err(e) => return fail(&e),
+    };
+    if fabrics.is_empty() {
+        return fail(&format!("{}: the table has no fabric rows", table.display()));
+    }
+    if let Err(e) = std::fs::create_dir_all(out) {
+        return fail(&format!("{}: cannot create the folder: {e}", out.display()));
+    }
+    let mut stems = std::collections::HashSet::new();
+    for fabric in &fabrics {
+        let mut stem = fabric_file_stem(&fabric.kes.name);
+        if !stems.insert(stem.clone()) {
+            stem = format!("{stem}_row{}", fabric.row);
+            stems.insert(stem.clone());
+        }
+        let path = out.join(format!("{stem}.ron"));
+        if let Err(e) = std::fs::write(&path, fabric_file_text(fabric, table)) {
+            return fail(&format!("{}: cannot write: {e}", path.display()));
+        }
+        println!("{}  ({}, row {})", path.display(), fabric.kes.name, fabric.row);
+    }
+    println!(
+        "{} fabric file(s) written; check one with: kes-cloth fabric check {}",
+        fabrics.len(),
+        out.join(format!("{}.ron", fabric_file_stem(&fabrics[0].kes.name)))
+            .display()
+    );
+    ExitCode::SUCCESS
+}
+
+/// Runs `scene` once (or `--repeat` times) into `--out` (default `out/<scene name>`).
+fn run_scene(scene: &Scene, args: RunArgs, checkpoint_every: Option<f64>) -> ExitCode {
+    let RunArgs {
+        out,
+        quiet,
+        repeat,
+        placements,
+        ..
+    } = args;
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.spec.name));
+    if let Some(n) = repeat {
+        if checkpoint_every.is_some() {
+            return fail(&"--checkpoint-every applies to a single run, not to --repeat");
+        }
+        return run_repeats(scene, n, placements, &dir, quiet);
+    }
+    // A checkpoint left in DIR by an earlier run is not this run's to resume.
+    let stale = dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE);
+    if stale.exists()
+        && let Err(e) = std::fs::remove_file(&stale)
+    {
+        return fail(&format!(
+            "{}: cannot remove the earlier run's checkpoint: {e}",
+            stale.display()
+        ));
+    }
+    if let Some(every) = checkpoint_every
+        && !(every.is_finite() && every > 0.0)
+    {
+        return fail(&format!(
+            "--checkpoint-every = {every}: must be a positive number of simulated seconds"
+        ));
+    }
+    let options = RunOptions {
+        progress: !quiet && std::io::stderr().is_terminal(),
+        checkpoint: checkpoint_every.map(|every_s| CheckpointPlan {
+            dir: dir.clone(),
+            every_s,
+        }),
+        interrupt: Some(interrupt_flag()),
+    };
+    let outcome = simulate(scene, &options);
+    finish_run(scene, &outcome, &dir, quiet)
+}
+
+/// The built-in testers on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum TesterArg {
+    /// The seed's drapemeter: a 25.4 cm (10 in) specimen on a 12.7 cm (5 in) disk.
+    Seed,
+    /// Cusick (BS 5058 / ISO 9073-9): a 24 cm specimen on the 18 cm disk.
+    #[value(name = "cusick-24")]
+    Cusick24,
+    /// Cusick: a 30 cm specimen on the 18 cm disk (the standard's usual one).
+    #[value(name = "cusick-30")]
+    Cusick30,
+    /// Cusick: a 36 cm specimen on the 18 cm disk (for limp fabrics).
+    #[value(name = "cusick-36")]
+    Cusick36,
+    /// The seed's tablecloth: a 40 cm square on a 20 cm square table.
+    Tablecloth,
+}
+
+impl From<TesterArg> for kes_cloth::scene::Tester {
+    fn from(t: TesterArg) -> Self {
+        use kes_cloth::scene::Tester;
+        match t {
+            TesterArg::Seed => Tester::Seed,
+            TesterArg::Cusick24 => Tester::Cusick24,
+            TesterArg::Cusick30 => Tester::Cusick30,
+            TesterArg::Cusick36 => Tester::Cusick36,
+            TesterArg::Tablecloth => Tester::Tablecloth,
+        }
+    }
 }

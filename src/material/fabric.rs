@@ -82,6 +82,11 @@ const WT_CONSISTENCY: f64 = 0.05;
 impl Fabric {
     /// Reads, validates and converts a fabric file (RON, KES units).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, FabricLoadError> {
+        Self::load_with_kes(path).map(|(_, fabric)| fabric)
+    }
+
+    /// Reads, validates and converts a fabric file, returning its KES values as written too.
+    pub fn load_with_kes(path: impl AsRef<Path>) -> Result<(KesFabric, Self), FabricLoadError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| FabricLoadError::Io {
             path: path.to_path_buf(),
@@ -93,10 +98,11 @@ impl Fabric {
             column: e.column,
             message: e.message,
         })?;
-        Self::from_kes(&kes).map_err(|source| FabricLoadError::Invalid {
+        let fabric = Self::from_kes(&kes).map_err(|source| FabricLoadError::Invalid {
             path: path.to_path_buf(),
             source,
-        })
+        })?;
+        Ok((kes, fabric))
     }
 
     /// Validates KES values and converts them to SI.

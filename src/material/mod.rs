@@ -12,6 +12,7 @@ mod fabric;
 mod fabric_error;
 mod hysteresis_law;
 mod kes_fabric;
+mod kes_table;
 pub mod kes_units;
 mod tensile_law;
 
@@ -20,5 +21,6 @@ pub use fabric::{BendingLaw, Fabric, ShearLaw, TensileProperties, Thread};
 pub use fabric_error::{Allowed, FabricLoadError, InvalidFabric};
 pub use hysteresis_law::{BENDING_REVERSAL_SPAN, FrictionResponse, HysteresisLaw, SHEAR_REVERSAL_SPAN_DEG};
 pub use kes_fabric::{KesBending, KesCurves, KesFabric, KesLoop, KesShear, KesTensile, PerThread};
+pub use kes_table::{FabricImportError, ImportedFabric, fabric_file_stem, fabric_file_text, read_kes_table};
 pub use kes_units::{GRAM_FORCE, KesUnit, STANDARD_GRAVITY};
 pub use tensile_law::TensileLaw;

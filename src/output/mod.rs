@@ -1,5 +1,6 @@
 //! What a run writes: `metrics.json`, the final mesh `final.obj`, the top view `top.png`.
 
+mod fabric_sheet;
 mod mesh_obj;
 mod metrics;
 mod plot_font;
@@ -7,6 +8,7 @@ mod top_view;
 
 use std::path::PathBuf;
 
+pub use fabric_sheet::fabric_sheet;
 pub use mesh_obj::write_obj;
 pub use metrics::{EffectCost, FailureReport, Metrics};
 pub(crate) use plot_font::register_plot_font;

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::{ColliderMotion, Scene, StretchModel, spawn::cloth_grid};
+use super::{ClothShape, ColliderMotion, ColliderShape, EffectsSpec, Scene, StretchModel, spawn::cloth_grid};
 use crate::forces::{BUCKLING_MARGIN, LinkCompression};
 use crate::material::Thread;
 
@@ -24,7 +24,8 @@ pub fn describe(scene: &Scene) -> String {
         let b = f.bending(t);
         let _ = writeln!(
             out,
-            "  {t:?}: B {:.4e} N·m, 2HB {:.4e} N, bending length {:.2} mm, tensile EMT {:.2} %, LT {:.2}",
+            "  {}: B {:.4e} N·m, 2HB {:.4e} N, bending length {:.2} mm, tensile EMT {:.2} %, LT {:.2}",
+            if t == Thread::Warp { "warp" } else { "weft" },
             b.rigidity,
             b.hysteresis_width,
             f.bending_length(t) * 1e3,
@@ -39,8 +40,8 @@ pub fn describe(scene: &Scene) -> String {
     );
     let _ = writeln!(
         out,
-        "cloth: {:?}, spacing {} m, {} nodes, {} links, node mass {:.3e} kg, node radius {} m, warp at {}°",
-        s.cloth.shape,
+        "cloth: {}, spacing {} m, {} nodes, {} links, node mass {:.3e} kg, node radius {} m, warp at {}°",
+        shape_text(&s.cloth.shape),
         s.cloth.spacing_m,
         topology.particle_count,
         topology.links.len(),
@@ -50,8 +51,10 @@ pub fn describe(scene: &Scene) -> String {
     );
     let _ = writeln!(
         out,
-        "world: gravity {:?} m/s², contact stiffness {} Hz against fixed bodies, {} Hz between moving ones",
-        s.world.gravity_m_per_s2, s.world.contact.fixed_hz, s.world.contact.moving_hz
+        "world: gravity {} m/s², contact stiffness {} Hz against fixed bodies, {} Hz between moving ones",
+        vector_text(s.world.gravity_m_per_s2),
+        s.world.contact.fixed_hz,
+        s.world.contact.moving_hz
     );
     for c in &s.world.colliders {
         let motion = match c.motion {
@@ -59,15 +62,21 @@ pub fn describe(scene: &Scene) -> String {
             ColliderMotion::Dynamic {
                 mass_kg,
                 velocity_m_per_s,
-            } => format!("dynamic, {mass_kg} kg thrown at {velocity_m_per_s:?} m/s"),
+            } => format!(
+                "dynamic, {mass_kg} kg thrown at {} m/s",
+                vector_text(velocity_m_per_s)
+            ),
         };
         let _ = writeln!(
             out,
-            "  {}: {:?} at {:?} m, friction {}, {motion}",
-            c.name, c.shape, c.centre_m, c.friction
+            "  {}: {} at {} m, friction {}, {motion}",
+            c.name,
+            collider_text(&c.shape),
+            vector_text(c.centre_m),
+            c.friction
         );
     }
-    let _ = writeln!(out, "effects: {:?}", s.effects);
+    let _ = writeln!(out, "effects: {}", effects_text(&s.effects));
     let fx = &s.effects;
     if fx.stretch == StretchModel::Constraint {
         let modulus = match fx.compression_modulus_n_per_m {
@@ -98,4 +107,71 @@ pub fn describe(scene: &Scene) -> String {
         i.settle.hold_s
     );
     out
+}
+
+/// `(x, y, z)` with plain numbers.
+fn vector_text(v: [f64; 3]) -> String {
+    format!("({}, {}, {})", v[0], v[1], v[2])
+}
+
+/// The cloth's outline in words.
+fn shape_text(shape: &ClothShape) -> String {
+    match shape {
+        ClothShape::Circle { diameter_m } => format!("circle {diameter_m} m across"),
+        ClothShape::Square { side_m } => format!("square, side {side_m} m"),
+        ClothShape::Rectangle { warp_m, weft_m } => {
+            format!("rectangle {warp_m} m along the warp × {weft_m} m along the weft")
+        }
+    }
+}
+
+/// A collider's shape in words.
+fn collider_text(shape: &ColliderShape) -> String {
+    match shape {
+        ColliderShape::Cylinder {
+            radius_m,
+            half_height_m,
+        } => format!("cylinder, radius {radius_m} m, height {} m,", 2.0 * half_height_m),
+        ColliderShape::Cuboid { half_extents_m: h } => {
+            format!("box {} × {} × {} m", 2.0 * h[0], 2.0 * h[1], 2.0 * h[2])
+        }
+        ColliderShape::Ball { radius_m } => format!("ball, radius {radius_m} m,"),
+    }
+}
+
+/// The effects that run, then those that do not.
+fn effects_text(fx: &EffectsSpec) -> String {
+    let stretch = match fx.stretch {
+        StretchModel::Constraint => "stretch (Rapier rope joints, tension only, plus link compression)",
+        StretchModel::Seed => "stretch (the seed's linear springs)",
+        StretchModel::Kes => "stretch (the KES tensile law)",
+    };
+    let damping = fx
+        .damping
+        .as_ref()
+        .map(|d| format!("damping {} /s", d.rate_per_s));
+    let drag = fx.air_drag.as_ref().map(|_| "air drag".to_string());
+    let flags = [
+        (fx.gravity, "gravity".to_string()),
+        (true, stretch.to_string()),
+        (fx.bending, "bending".to_string()),
+        (fx.trellising, "trellising".to_string()),
+        (fx.contact, "contact".to_string()),
+        (fx.friction, "friction".to_string()),
+        (fx.self_collision, "self-collision".to_string()),
+        (damping.is_some(), damping.unwrap_or_else(|| "damping".into())),
+        (drag.is_some(), drag.unwrap_or_else(|| "air drag".into())),
+        (fx.hysteresis, "hysteresis".to_string()),
+    ];
+    let on: Vec<&str> = flags.iter().filter(|f| f.0).map(|f| f.1.as_str()).collect();
+    let off: Vec<&str> = flags.iter().filter(|f| !f.0).map(|f| f.1.as_str()).collect();
+    format!(
+        "{}; off: {}",
+        on.join(", "),
+        if off.is_empty() {
+            "none".to_string()
+        } else {
+            off.join(", ")
+        }
+    )
 }

@@ -11,6 +11,7 @@ mod scene_file;
 mod scene_overrides;
 mod scene_validation;
 pub mod spawn;
+mod testers;
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +19,7 @@ pub use describe::describe;
 pub use scene_error::SceneError;
 pub use scene_file::*;
 pub use scene_validation::MAX_NODES;
+pub use testers::{Tester, tester_scene, tester_settings};
 
 use crate::material::Fabric;
 

@@ -50,34 +50,72 @@ fn tick_label(v: &f64) -> String {
     }
 }
 
-/// The rows of the curve for key `k`: every other key at its default value when the default is
-/// among its values (else its first value), sorted by wall time.
-fn curve(study: &Study, k: usize) -> Vec<&StudyRow> {
-    let anchors: Vec<String> = (0..study.keys.len())
-        .map(|j| {
-            study
-                .rows
-                .iter()
-                .find(|r| r.is_default)
-                .or(study.rows.first())
-                .map_or(String::new(), |r| r.setting[j].1.clone())
-        })
-        .collect();
-    let mut rows: Vec<&StudyRow> = study
-        .rows
+/// The varied key whose values a line runs through: the spacing when it is varied, else the
+/// last varied key. Points that differ only in it (one integrator, one step, ...) are joined.
+fn joined_key(study: &Study) -> usize {
+    study
+        .keys
         .iter()
-        .filter(|r| r.metrics.failure.is_none())
-        .filter(|r| (0..study.keys.len()).all(|j| j == k || r.setting[j].1 == anchors[j]))
-        .collect();
-    rows.sort_by(|a, b| a.metrics.wall_time_s.total_cmp(&b.metrics.wall_time_s));
-    rows
+        .position(|k| k == "cloth.spacing_m")
+        .unwrap_or(study.keys.len().saturating_sub(1))
 }
+
+/// A key's last path segment, e.g. `dt_s` for `integration.dt_s`.
+fn short_key(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
+}
+
+/// The lines of the diagram: the runs that did not fail, grouped by the values of every varied
+/// key but the joined one, each in the order of the joined key's values, with a label naming
+/// those values.
+fn lines(study: &Study) -> Vec<(String, Vec<&StudyRow>)> {
+    let joined = joined_key(study);
+    let mut groups: Vec<(String, Vec<&StudyRow>)> = Vec::new();
+    for row in study.rows.iter().filter(|r| r.metrics.failure.is_none()) {
+        let label: Vec<String> = row
+            .setting
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != joined)
+            .map(|(_, (k, v))| format!("{}={v}", short_key(k)))
+            .collect();
+        let label = if label.is_empty() {
+            format!("varying {}", study.keys.get(joined).map_or("", |k| short_key(k)))
+        } else {
+            label.join(", ")
+        };
+        match groups.iter_mut().find(|g| g.0 == label) {
+            Some(group) => group.1.push(row),
+            None => groups.push((label, vec![row])),
+        }
+    }
+    // Along the joined key's values (numbers in order), so a line follows the refinement.
+    let at = |r: &StudyRow| {
+        r.setting
+            .get(joined)
+            .and_then(|s| s.1.parse::<f64>().ok())
+            .unwrap_or(f64::NAN)
+    };
+    for group in &mut groups {
+        group.1.sort_by(|a, b| at(a).total_cmp(&at(b)));
+    }
+    groups
+}
+
+/// Height (px) of one legend entry below a chart.
+const LEGEND_ROW: u32 = 22;
 
 fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
     crate::output::register_plot_font();
-    let root = BitMapBackend::new(path, (1400, 600)).into_drawing_area();
+    let groups = lines(study);
+    let joined = joined_key(study);
+    // The legend goes below the charts, one row per line and one for the shipped scene, so it
+    // covers no point.
+    let legend_height = LEGEND_ROW * (groups.len() as u32 + 1) + 20;
+    let root = BitMapBackend::new(path, (1400, 600 + legend_height)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (left, right) = root.split_horizontally(700);
+    let (charts, legend) = root.split_vertically(600);
+    let (left, right) = charts.split_horizontally(700);
     // Drapemeter scenes are judged by DC, tablecloth scenes by how low their corners hang.
     let first: (&str, ErrorOf) = if study.is_drapemeter() {
         ("drape coefficient error |DC − DC_ref|", |r| r.dc_error)
@@ -117,30 +155,29 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
             .y_desc(label)
             .label_style(("sans-serif", 14))
             .draw()?;
-        // Every grid point, so points off the curves (another key away from its default, e.g.
-        // where the guard refused the default step at that spacing) are still seen.
-        let grey = RGBColor(150, 150, 150);
-        let all: Vec<(f64, f64)> = study
-            .rows
-            .iter()
-            .filter(|r| r.metrics.failure.is_none())
-            .filter_map(|r| value(r).map(|e| (r.metrics.wall_time_s, e.max(ERROR_FLOOR))))
-            .collect();
-        chart
-            .draw_series(all.iter().map(|&p| Circle::new(p, 6, grey.stroke_width(1))))?
-            .label("every grid point")
-            .legend(move |(x, y)| Circle::new((x + 10, y), 5, grey.stroke_width(1)));
-        for (k, key) in study.keys.iter().enumerate() {
+        for (k, (_, rows)) in groups.iter().enumerate() {
             let colour = Palette99::pick(k).to_rgba();
-            let points: Vec<(f64, f64)> = curve(study, k)
+            let points: Vec<(f64, f64, &str)> = rows
                 .iter()
-                .filter_map(|r| value(r).map(|e| (r.metrics.wall_time_s, e.max(ERROR_FLOOR))))
+                .filter_map(|r| {
+                    value(r).map(|e| {
+                        let at = r.setting.get(joined).map_or("", |s| s.1.as_str());
+                        (r.metrics.wall_time_s, e.max(ERROR_FLOOR), at)
+                    })
+                })
                 .collect();
-            chart
-                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?
-                .label(format!("varying {key}"))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))?;
+            let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1)).collect();
+            chart.draw_series(LineSeries::new(xy.clone(), colour.stroke_width(2)))?;
+            chart.draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled())))?;
+            // Each point names its value of the joined key, e.g. `0.0075`.
+            chart.draw_series(points.iter().map(|&(x, y, at)| {
+                EmptyElement::at((x, y))
+                    + Text::new(
+                        at.to_string(),
+                        (7, -15),
+                        ("sans-serif", 12).into_font().color(&colour),
+                    )
+            }))?;
         }
         let shipped: Vec<(f64, f64)> = study
             .rows
@@ -148,20 +185,28 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
             .filter(|r| r.is_default)
             .filter_map(|r| value(r).map(|e| (r.metrics.wall_time_s, e.max(ERROR_FLOOR))))
             .collect();
-        chart
-            .draw_series(shipped.iter().map(|&p| Cross::new(p, 9, BLACK.stroke_width(3))))?
-            .label("scene as shipped")
-            .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
-        // Upper right: a slow run with a large error, the corner a work–precision diagram
-        // leaves empty, so the legend hides no point there.
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()?;
+        chart.draw_series(shipped.iter().map(|&p| Cross::new(p, 9, BLACK.stroke_width(3))))?;
     }
+    let font = ("sans-serif", 15).into_font();
+    let joined_name = study.keys.get(joined).map_or("", |k| short_key(k));
+    legend.draw(&Text::new(
+        format!("Lines join runs that differ only in {joined_name}; each point is labelled with its {joined_name}."),
+        (20, 4),
+        font.clone(),
+    ))?;
+    for (k, (label, _)) in groups.iter().enumerate() {
+        let colour = Palette99::pick(k).to_rgba();
+        let y = 4 + LEGEND_ROW as i32 * (k as i32 + 1);
+        legend.draw(&PathElement::new(
+            vec![(20, y + 8), (50, y + 8)],
+            colour.stroke_width(2),
+        ))?;
+        legend.draw(&Circle::new((35, y + 8), 4, colour.filled()))?;
+        legend.draw(&Text::new(label.clone(), (60, y), font.clone()))?;
+    }
+    let y = 4 + LEGEND_ROW as i32 * (groups.len() as i32 + 1);
+    legend.draw(&Cross::new((35, y + 8), 6, BLACK.stroke_width(2)))?;
+    legend.draw(&Text::new("the scene as shipped", (60, y), font))?;
     root.present()?;
     Ok(())
 }

@@ -1,0 +1,147 @@
+//! The standard drape testers, built in: a scene for any fabric file on any of them, with the
+//! numerical settings the shipped scenes use, chosen from the fabric.
+//!
+//! Each tester is one of the shipped scene files (compiled into the binary) with the fabric,
+//! the specimen and the numerical settings replaced:
+//!
+//! - spacing, on the drapemeters: the coarsest of 10, 7.5, 5, 3.75 and 2.5 mm that is at most
+//!   half the fabric's shorter bending length c = (B/W)^(1/3) (thick cotton, c = 2.6–3.3 cm:
+//!   10 mm; thin wool, c = 1.5–1.6 cm: 7.5 mm, as the shipped scenes); the tablecloth, whose
+//!   folds span several centimetres, keeps its scene's 1 cm;
+//! - step: the largest of the round steps 1, 0.8, 0.5, 0.4, 0.25, 0.2, 0.125 and 0.1 ms (and
+//!   the same tenfold smaller) within the stability guard's limit for that fabric and spacing
+//!   (`docs/model.md` §10).
+
+use std::path::{Path, PathBuf};
+
+use super::{Scene, SceneError};
+use crate::material::{Fabric, Thread};
+
+/// A built-in drape tester.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tester {
+    /// The seed's drapemeter (Horiba & Shimizu, Fig. 3): a 10 in (25.4 cm) circular specimen
+    /// on a 5 in (12.7 cm) disk.
+    Seed,
+    /// Cusick tester (BS 5058 / ISO 9073-9): a 24 cm specimen on the 18 cm disk.
+    Cusick24,
+    /// Cusick tester: a 30 cm specimen on the 18 cm disk.
+    Cusick30,
+    /// Cusick tester: a 36 cm specimen on the 18 cm disk.
+    Cusick36,
+    /// The seed's tablecloth: a 40 cm × 40 cm square on a 20 cm × 20 cm table.
+    Tablecloth,
+}
+
+/// Spacings (m) a tester may use, coarsest first.
+const SPACINGS: [f64; 5] = [0.01, 0.0075, 0.005, 0.00375, 0.0025];
+
+/// Round steps (s) of one decade, largest first.
+const ROUND_STEPS: [f64; 8] = [1e-3, 8e-4, 5e-4, 4e-4, 2.5e-4, 2e-4, 1.25e-4, 1e-4];
+
+impl Tester {
+    /// Every tester, in the order `--help` lists them.
+    pub const ALL: [Tester; 5] = [
+        Tester::Seed,
+        Tester::Cusick24,
+        Tester::Cusick30,
+        Tester::Cusick36,
+        Tester::Tablecloth,
+    ];
+
+    /// The tester's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tester::Seed => "seed",
+            Tester::Cusick24 => "cusick-24",
+            Tester::Cusick30 => "cusick-30",
+            Tester::Cusick36 => "cusick-36",
+            Tester::Tablecloth => "tablecloth",
+        }
+    }
+
+    /// The shipped scene the tester is built from (its path in the repository, and its text).
+    fn template(self) -> (&'static str, &'static str) {
+        match self {
+            Tester::Seed => (
+                "scenes/drape_wool.ron",
+                include_str!("../../scenes/drape_wool.ron"),
+            ),
+            Tester::Cusick24 | Tester::Cusick30 | Tester::Cusick36 => (
+                "scenes/cusick_wool.ron",
+                include_str!("../../scenes/cusick_wool.ron"),
+            ),
+            Tester::Tablecloth => (
+                "scenes/tablecloth_wool.ron",
+                include_str!("../../scenes/tablecloth_wool.ron"),
+            ),
+        }
+    }
+
+    /// The spacing (m) the tester keeps whatever the fabric; `None`: chosen from the fabric.
+    fn fixed_spacing(self) -> Option<f64> {
+        (self == Tester::Tablecloth).then_some(0.01)
+    }
+
+    /// The specimen, where it differs from the template's.
+    fn specimen(self) -> Option<&'static str> {
+        match self {
+            Tester::Cusick24 => Some("cloth.shape=Circle(diameter_m: 0.24)"),
+            Tester::Cusick36 => Some("cloth.shape=Circle(diameter_m: 0.36)"),
+            _ => None,
+        }
+    }
+}
+
+/// The spacing (m) and explicit step (s) `tester` uses for `fabric` (module docs), given the
+/// stability guard's step limit (s) at a spacing (m).
+pub fn tester_settings(tester: Tester, fabric: &Fabric, step_limit: impl Fn(f64) -> f64) -> (f64, f64) {
+    let c = fabric
+        .bending_length(Thread::Warp)
+        .min(fabric.bending_length(Thread::Weft));
+    let spacing = tester.fixed_spacing().unwrap_or_else(|| {
+        SPACINGS
+            .iter()
+            .copied()
+            .find(|s| *s <= c / 2.0 * (1.0 + 1e-9))
+            .unwrap_or(SPACINGS[SPACINGS.len() - 1])
+    });
+    let limit = step_limit(spacing);
+    let step = (0..6)
+        .flat_map(|decade| ROUND_STEPS.iter().map(move |s| s * 10f64.powi(-decade)))
+        .find(|s| *s <= limit)
+        .unwrap_or(limit);
+    (spacing, step)
+}
+
+/// The scene of `fabric_file` on `tester`, named `<tester>-<fabric file stem>`, with the
+/// testers' settings for that fabric, then `overrides` (`--set`) applied.
+pub fn tester_scene(tester: Tester, fabric_file: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
+    let (template_path, text) = tester.template();
+    let origin = PathBuf::from(format!("{template_path} (tester {})", tester.name()));
+    let absolute = std::path::absolute(fabric_file).unwrap_or_else(|_| fabric_file.to_path_buf());
+    let stem = fabric_file
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("fabric");
+    let mut set = vec![
+        format!("fabric=File({:?})", absolute.display().to_string()),
+        format!("name={:?}", format!("{}-{stem}", tester.name())),
+    ];
+    set.extend(tester.specimen().map(str::to_string));
+    // First with a step every fabric takes, to read the fabric and the guard's limit.
+    let mut probe = set.clone();
+    probe.push("integration.dt_s=1e-7".into());
+    let scene = Scene::from_text(text, origin.clone(), &probe)?;
+    let (spacing, step) = tester_settings(tester, &scene.fabric, |spacing| {
+        let mut spec = scene.spec.clone();
+        spec.cloth.spacing_m = spacing;
+        super::step_limits(&spec, &scene.fabric)
+            .first()
+            .map_or(f64::INFINITY, |l| l.max_step)
+    });
+    set.push(format!("cloth.spacing_m={spacing}"));
+    set.push(format!("integration.dt_s={step}"));
+    set.extend(overrides.iter().cloned());
+    Scene::from_text(text, origin, &set)
+}
