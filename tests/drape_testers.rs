@@ -75,8 +75,8 @@ fn other_specimens_and_fabrics_get_the_rule() {
     }
 }
 
-/// The command runs a fabric file on a tester and writes what `run` writes; a tester it does not
-/// know is refused with the list of those it does.
+/// The command runs a fabric file on a tester and writes what `run` writes, the report among
+/// them; a tester it does not know is refused with the list of those it does.
 #[test]
 fn the_command_drapes_a_fabric_file_and_refuses_an_unknown_tester() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("drape_command");
@@ -98,9 +98,46 @@ fn the_command_drapes_a_fabric_file_and_refuses_an_unknown_tester() {
         .output()
         .expect("runs");
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    for file in ["metrics.json", "final.obj", "top.png"] {
+    for file in ["metrics.json", "final.obj", "top.png", "side.png", "report.html"] {
         assert!(out.join(file).exists(), "{file} not written");
     }
+    // The report shows both pictures and the fabric in KES units.
+    let report = std::fs::read_to_string(out.join("report.html")).expect("report");
+    for part in [
+        "<img src=\"top.png\"",
+        "<img src=\"side.png\"",
+        "id=\"fabric\"",
+        "gf·cm²/cm",
+    ] {
+        assert!(report.contains(part), "{part} missing from report.html");
+    }
+    // With --repeat, the folder's own report has a row per seed and seed 0's 3D view.
+    let repeated = out.with_file_name("drape_command_repeat");
+    let run = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "drape",
+            "assets/fabrics/thick_cotton.ron",
+            "--repeat",
+            "2",
+            "--quiet",
+        ])
+        .args([
+            "--set",
+            "integration.max_time_s=0.01",
+            "--out",
+            repeated.to_str().expect("utf-8"),
+        ])
+        .output()
+        .expect("runs");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let report = std::fs::read_to_string(repeated.join("report.html")).expect("the repeat's report");
+    assert_eq!(
+        report.matches("<tr><td>").count(),
+        2,
+        "one row per seed:\n{report}"
+    );
+    assert!(report.contains("href=\"seed-0/final.glb\""), "{report}");
     let refused = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
         .args([
             "drape",

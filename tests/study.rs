@@ -39,6 +39,8 @@ fn written(study: &kes_cloth::study::Study, tag: &str) -> (String, String) {
     let md = std::fs::read_to_string(dir.join("study.md")).unwrap();
     let csv = std::fs::read_to_string(dir.join("study.csv")).unwrap();
     assert!(dir.join("work_precision.png").exists());
+    let report = std::fs::read_to_string(dir.join("report.html")).expect("the study's report");
+    assert!(report.contains("<img src=\"work_precision.png\""), "{report}");
     std::fs::remove_dir_all(&dir).ok();
     (md, csv)
 }

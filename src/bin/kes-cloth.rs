@@ -63,8 +63,10 @@ enum Command {
     /// Run a scene until the cloth settles (or the scene's time limit) and write its results.
     ///
     /// Writes into DIR (default `out/<scene name>/`): `metrics.json` (all SI, units in the
-    /// keys), `final.obj` (the draped mesh, metres, +y up) and `top.png` (a top view shaded by
-    /// height with the disk or table outline). Prints a short summary.
+    /// keys), `final.obj` (the draped mesh, metres, +y up), `top.png` (a top view shaded by
+    /// height with the disk or table outline), `side.png` (a side view), `final.glb` (the mesh as
+    /// binary glTF) and `report.html` (the figures, both pictures, a 3D view and the fabric on one
+    /// page, opened offline). Prints a short summary.
     ///
     /// Example: kes-cloth run scenes/drape_wool.ron --set integration.dt_s=0.0002 --set seed=3
     Run {
@@ -466,6 +468,11 @@ fn run_repeats(scene: &Scene, n: usize, placements: bool, dir: &std::path::Path,
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
     if let Err(e) = std::fs::write(&path, text + "\n") {
         return fail(&format!("{}: cannot write: {e}", path.display()));
+    }
+    if scene.spec.output.report
+        && let Err(e) = kes_cloth::run::write_repeat_report(scene, &outcomes, &summary, dir)
+    {
+        return fail(&e);
     }
     if !quiet {
         let modal = summary.modal_nodes.map_or("-".into(), |v| v.to_string());

@@ -1,17 +1,23 @@
 //! What a run writes: `metrics.json`, the final mesh `final.obj`, the top view `top.png`.
 
 mod fabric_sheet;
+mod mesh_glb;
 mod mesh_obj;
 mod metrics;
 mod plot_font;
+mod report_html;
+mod side_view;
 mod top_view;
 
 use std::path::PathBuf;
 
 pub use fabric_sheet::fabric_sheet;
+pub use mesh_glb::{glb_bytes, write_glb};
 pub use mesh_obj::write_obj;
 pub use metrics::{EffectCost, FailureReport, Metrics};
 pub(crate) use plot_font::register_plot_font;
+pub use report_html::{Report, ReportTable};
+pub use side_view::write_side_view;
 pub use top_view::{TopViewOutline, write_top_view};
 
 /// Writing an output file failed.

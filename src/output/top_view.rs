@@ -60,33 +60,9 @@ pub fn write_top_view(
         .build_cartesian_2d(-extent..extent, extent..-extent)
         .map_err(|e| err(&e))?;
 
-    // Painter's order: lowest triangles first, so the top surface stays visible.
-    let (lo, hi) = positions
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-            (a.min(p.y), b.max(p.y))
-        });
-    let span = (hi - lo).max(1e-9);
-    let mut tris: Vec<(f64, [u32; 3])> = topology
-        .triangles
-        .iter()
-        .map(|t| (t.iter().map(|&i| positions[i as usize].y).sum::<f64>() / 3.0, *t))
-        .collect();
-    tris.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let polygons = tris.iter().map(|(h, t)| {
-        // High parts light sand, low parts deep blue: the shadow of the drape reads at a glance.
-        let s = ((h - lo) / span).clamp(0.0, 1.0);
-        let colour = RGBColor(
-            (40.0 + 200.0 * s) as u8,
-            (70.0 + 160.0 * s) as u8,
-            (150.0 + 50.0 * s) as u8,
-        );
-        let pts: Vec<(f64, f64)> = t
-            .iter()
-            .map(|&i| (positions[i as usize].x, positions[i as usize].z))
-            .collect();
-        Polygon::new(pts, colour.filled())
-    });
+    // Seen from above: x right, z down the image, nearer (higher) triangles lighter and drawn
+    // last, so the top surface stays visible.
+    let polygons = shaded_triangles(topology, positions, |p| ((p.x, p.z), p.y));
     chart.draw_series(polygons).map_err(|e| err(&e))?;
 
     for o in outlines {
@@ -118,4 +94,39 @@ pub fn write_top_view(
         )
         .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))
+}
+
+/// The cloth's triangles as filled polygons for a view that maps a point to its image position
+/// and its nearness to the viewer (m): in painter's order (farthest first), shaded from deep
+/// blue (far) to light sand (near), so the drape's shape reads at a glance.
+pub(super) fn shaded_triangles(
+    topology: &ClothTopology,
+    positions: &[DVec3],
+    view: impl Fn(DVec3) -> ((f64, f64), f64),
+) -> Vec<Polygon<(f64, f64)>> {
+    let nearness: Vec<f64> = positions.iter().map(|p| view(*p).1).collect();
+    let (lo, hi) = nearness
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &d| {
+            (a.min(d), b.max(d))
+        });
+    let span = (hi - lo).max(1e-9);
+    let mut tris: Vec<(f64, [u32; 3])> = topology
+        .triangles
+        .iter()
+        .map(|t| (t.iter().map(|&i| nearness[i as usize]).sum::<f64>() / 3.0, *t))
+        .collect();
+    tris.sort_by(|a, b| a.0.total_cmp(&b.0));
+    tris.iter()
+        .map(|(d, t)| {
+            let s = ((d - lo) / span).clamp(0.0, 1.0);
+            let colour = RGBColor(
+                (40.0 + 200.0 * s) as u8,
+                (70.0 + 160.0 * s) as u8,
+                (150.0 + 50.0 * s) as u8,
+            );
+            let pts: Vec<(f64, f64)> = t.iter().map(|&i| view(positions[i as usize]).0).collect();
+            Polygon::new(pts, colour.filled())
+        })
+        .collect()
 }

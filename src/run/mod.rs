@@ -13,7 +13,7 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 
 pub use declared_measures::{CantileverBend, Measured, TableHang, declared_disk, measure_declared};
-pub use run_report::{summary, write_outputs};
+pub use run_report::{summary, write_outputs, write_repeat_report};
 
 use crate::checkpoint::{CheckpointError, Snapshot};
 use crate::forces::ClothTopology;

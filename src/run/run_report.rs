@@ -1,13 +1,19 @@
-//! What a run leaves behind: `metrics.json`, `final.obj`, `top.png`, and the printed summary.
+//! What a run leaves behind: `metrics.json`, `final.obj`, `top.png`, `side.png`, `report.html`,
+//! and the printed summary.
 
 use std::path::Path;
 
 use super::RunOutcome;
 use super::declared_measures::declared_disk;
-use crate::output::{OutputError, TopViewOutline, write_obj, write_top_view};
-use crate::scene::{ColliderShape, Scene};
+use crate::material::Fabric;
+use crate::output::{
+    OutputError, Report, ReportTable, TopViewOutline, fabric_sheet, write_glb, write_obj, write_side_view,
+    write_top_view,
+};
+use crate::scene::{ColliderShape, FabricSource, Scene};
 
-/// Writes `metrics.json` and, for a run that did not fail, `final.obj` and `top.png`.
+/// Writes `metrics.json` and, for a run that did not fail, `final.obj`, `top.png`, `side.png`
+/// and `report.html` (as the scene's `output` asks).
 pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), OutputError> {
     std::fs::create_dir_all(dir).map_err(|e| OutputError::new(dir, e))?;
     outcome.metrics.write(dir)?;
@@ -71,7 +77,97 @@ pub fn write_outputs(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<
             &markers,
         )?;
     }
+    if out.report {
+        write_report(scene, outcome, dir)?;
+    }
     Ok(())
+}
+
+/// Writes `side.png`, `final.glb` and `report.html` (with its `viewer/`) for a run that did not
+/// fail.
+fn write_report(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), OutputError> {
+    let silhouettes: Vec<[f64; 4]> = scene
+        .spec
+        .world
+        .colliders
+        .iter()
+        .zip(&outcome.collider_centres)
+        .filter(|(c, _)| c.motion == crate::scene::ColliderMotion::Fixed)
+        .filter_map(|(c, at)| match c.shape {
+            ColliderShape::Cylinder {
+                radius_m,
+                half_height_m,
+            } => Some([
+                at.x - radius_m,
+                at.y - half_height_m,
+                at.x + radius_m,
+                at.y + half_height_m,
+            ]),
+            ColliderShape::Cuboid {
+                half_extents_m: [x, y, _],
+            } => Some([at.x - x, at.y - y, at.x + x, at.y + y]),
+            ColliderShape::Ball { .. } => None,
+        })
+        .collect();
+    let out = &scene.spec.output;
+    write_side_view(
+        dir,
+        out.image_size_px,
+        &outcome.topology,
+        &outcome.positions,
+        &silhouettes,
+    )?;
+    let m = &outcome.metrics;
+    let mut figures = vec![
+        ("fabric".to_string(), m.fabric.clone()),
+        (
+            "settled".to_string(),
+            match (m.settled, m.settle_time_s) {
+                (true, Some(t)) => format!("yes, at {t:.2} s simulated"),
+                _ => "no: the figures are provisional".to_string(),
+            },
+        ),
+    ];
+    if let (Some(dc), Some(nodes)) = (m.drape_coefficient, m.nodes) {
+        figures.push((
+            "drape coefficient DC".to_string(),
+            format!(
+                "{dc:.3} (one run: its spread over seeds and lattice placements is what \
+                 `--repeat N --placements` measures, its error from the spacing what \
+                 `kes-cloth converge` measures)"
+            ),
+        ));
+        figures.push(("nodes (folds)".to_string(), nodes.to_string()));
+    }
+    figures.push((
+        "lattice".to_string(),
+        format!("{} nodes, {:.1} mm apart", m.particles, m.spacing_m * 1e3),
+    ));
+    figures.push(("step".to_string(), format!("{:.4} ms", m.dt_s * 1e3)));
+    figures.push(("wall time".to_string(), format!("{:.1} s", m.wall_time_s)));
+    let mut pictures = Vec::new();
+    if out.top_png {
+        pictures.push((
+            "top.png".to_string(),
+            "seen from above; red dots: the counted nodes".to_string(),
+        ));
+    }
+    pictures.push((
+        "side.png".to_string(),
+        "seen from the side (along −z), nearer parts lighter".to_string(),
+    ));
+    let sheet = scene_fabric_sheet(scene);
+    let glb = write_glb(dir, &scene.spec.name, &outcome.topology, &outcome.positions)?;
+    Report {
+        title: format!("{}: {}", scene.spec.name, m.fabric),
+        figures,
+        summary: summary(outcome),
+        pictures,
+        fabric_sheet: sheet,
+        glb: Some(("final.glb".into(), glb)),
+        ..Report::default()
+    }
+    .write(dir)
 }
 
 /// The short summary printed after a run.
@@ -161,4 +257,94 @@ pub fn summary(outcome: &RunOutcome) -> String {
     }
     s += &format!(", Rapier's step {rapier:.2} s");
     s
+}
+
+/// The sheet of the scene's fabric in KES and SI units, if its KES values can be read.
+fn scene_fabric_sheet(scene: &Scene) -> Option<String> {
+    match &scene.spec.fabric {
+        FabricSource::File(file) => {
+            let base = scene.path.parent().unwrap_or(Path::new("."));
+            Fabric::load_with_kes(base.join(file)).ok()
+        }
+        FabricSource::Inline(kes) => Fabric::from_kes(kes).ok().map(|f| ((**kes).clone(), f)),
+    }
+    .map(|(kes, fabric)| fabric_sheet(&kes, &fabric))
+}
+
+/// Writes `dir/report.html` for `--repeat`: the modal node count and DC's mean and spread, one
+/// row per seed, the first seed's pictures and 3D view (from `seed-0/`), and the fabric.
+pub fn write_repeat_report(
+    scene: &Scene,
+    outcomes: &[RunOutcome],
+    summary: &crate::repeat::RepeatSummary,
+    dir: &Path,
+) -> Result<(), OutputError> {
+    let dc = match (summary.dc_mean, summary.dc_std) {
+        (Some(m), Some(s)) => format!("{m:.3} ± {s:.3} (mean ± sample standard deviation)"),
+        _ => "-".into(),
+    };
+    let figures = vec![
+        (
+            "runs".to_string(),
+            format!("{}, {} settled", summary.runs, summary.settled),
+        ),
+        ("drape coefficient DC".to_string(), dc),
+        (
+            "nodes (folds), modal".to_string(),
+            summary.modal_nodes.map_or("-".into(), |n| n.to_string()),
+        ),
+    ];
+    let rows = outcomes
+        .iter()
+        .enumerate()
+        .map(|(seed, o)| {
+            let m = &o.metrics;
+            vec![
+                seed.to_string(),
+                format!(
+                    "({:.1}, {:.1})",
+                    m.lattice_offset_m[0] * 1e3,
+                    m.lattice_offset_m[1] * 1e3
+                ),
+                m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}")),
+                m.nodes.map_or("-".into(), |v| v.to_string()),
+                match (m.settled, m.settle_time_s) {
+                    (true, Some(t)) => format!("{t:.2}"),
+                    _ => "not settled".into(),
+                },
+                format!("{:.1}", m.wall_time_s),
+            ]
+        })
+        .collect();
+    let first = dir.join("seed-0");
+    let pictures = ["top.png", "side.png"]
+        .iter()
+        .filter(|f| first.join(f).exists())
+        .map(|f| (format!("seed-0/{f}"), format!("seed 0: {f}")))
+        .collect();
+    Report {
+        title: format!("{}: {} runs", scene.spec.name, summary.runs),
+        figures,
+        pictures,
+        fabric_sheet: scene_fabric_sheet(scene),
+        glb: std::fs::read(first.join("final.glb"))
+            .ok()
+            .map(|bytes| ("seed-0/final.glb".into(), bytes)),
+        tables: vec![ReportTable {
+            caption: "Each run".into(),
+            header: [
+                "seed",
+                "lattice shift (mm)",
+                "DC",
+                "nodes",
+                "settled at (s)",
+                "wall time (s)",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+        }],
+        ..Report::default()
+    }
+    .write(dir)
 }

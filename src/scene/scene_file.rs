@@ -490,9 +490,13 @@ pub struct OutputSpec {
     /// Write `top.png` (default true).
     #[serde(default = "yes")]
     pub top_png: bool,
-    /// Width and height of `top.png` (pixels; default 800).
+    /// Width and height of `top.png`, width of `side.png` (pixels; default 800).
     #[serde(default = "default_image_size")]
     pub image_size_px: u32,
+    /// Write `side.png`, `final.glb` and `report.html`, the page with the numbers, the
+    /// pictures, a 3D view and the fabric (default true).
+    #[serde(default = "yes")]
+    pub report: bool,
 }
 
 fn default_image_size() -> u32 {
@@ -505,6 +509,7 @@ impl Default for OutputSpec {
             mesh_obj: true,
             top_png: true,
             image_size_px: default_image_size(),
+            report: true,
         }
     }
 }

@@ -15,7 +15,17 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<(), OutputError> {
     let md = dir.join("study.md");
     std::fs::write(&md, markdown(study)).map_err(|e| OutputError::new(&md, e))?;
     let png = dir.join("work_precision.png");
-    plot_work_precision(study, &png).map_err(|e| OutputError::new(&png, e))
+    plot_work_precision(study, &png).map_err(|e| OutputError::new(&png, e))?;
+    crate::output::Report {
+        title: format!("Study of {}", study.scene),
+        pictures: vec![(
+            "work_precision.png".into(),
+            "error against wall time: what accuracy costs".into(),
+        )],
+        texts: vec![("Every run".into(), markdown(study))],
+        ..crate::output::Report::default()
+    }
+    .write(dir)
 }
 
 /// `0.459 ± 0.020` over several placements, `0.459` for one run.
