@@ -29,7 +29,7 @@ fn attribute<'a>(dom: &'a str, tag: &str, attribute: &str) -> Option<&'a str> {
     element[at..].split('"').next()
 }
 
-/// Opens `page` in headless Chromium (`scripts/test` installs Debian's) and returns the DOM after
+/// Opens `page` in headless Chromium (`scripts/install-test-tools` installs Debian's) and returns the DOM after
 /// 5 s of page time, writing a screenshot beside it.
 fn open_headless(page: &Path) -> String {
     let url = format!("file://{}", page.display());
@@ -48,7 +48,9 @@ fn open_headless(page: &Path) -> String {
             .arg(extra)
             .arg(&url)
             .output()
-            .unwrap_or_else(|e| panic!("chromium does not run ({e}): `scripts/test` installs it"))
+            .unwrap_or_else(|e| {
+                panic!("chromium does not run ({e}): `scripts/install-test-tools` installs it")
+            })
     };
     let shot = page.with_file_name("report.png");
     assert!(run(&format!("--screenshot={}", shot.display())).status.success());

@@ -226,7 +226,7 @@ pub fn read_kes_table(path: &Path) -> Result<Vec<ImportedFabric>, FabricImportEr
     let source_column =
         find(&["source".into()]).ok_or_else(|| missing("source", "where the fabric's numbers come from"))?;
     // field path → column, for every quantity and direction.
-    let mut fields: Vec<(String, String, usize)> = Vec::new();
+    let mut fields: Vec<(String, &Quantity, usize)> = Vec::new();
     for q in QUANTITIES {
         let key = normalise(q.key);
         if q.per_thread {
@@ -242,11 +242,11 @@ pub fn read_kes_table(path: &Path) -> Result<Vec<ImportedFabric>, FabricImportEr
                         &format!("{} along the {dir}; or `{}` for both", q.meaning, q.key),
                     )
                 })?;
-                fields.push((q.field.replace("{dir}", dir), q.key.to_string(), column));
+                fields.push((q.field.replace("{dir}", dir), q, column));
             }
         } else {
             let column = find(&[key]).ok_or_else(|| missing(q.key, q.meaning))?;
-            fields.push((q.field.to_string(), q.key.to_string(), column));
+            fields.push((q.field.to_string(), q, column));
         }
     }
     let cell_error = |row: u64, column: usize, message: String| FabricImportError::Cell {
@@ -264,11 +264,7 @@ pub fn read_kes_table(path: &Path) -> Result<Vec<ImportedFabric>, FabricImportEr
         let row = record.position().map_or(index as u64 + 2, |p| p.line());
         let cell = |column: usize| record.get(column).unwrap_or("");
         if index == 0 && matches!(normalise(cell(name_column)).as_str(), "unit" | "units") {
-            for (_, key, column) in &fields {
-                let q = QUANTITIES
-                    .iter()
-                    .find(|q| q.key == key)
-                    .expect("every field comes from a quantity");
+            for (_, q, column) in &fields {
                 let written = normalise(cell(*column));
                 let Some(&(_, factor)) = q.units.iter().find(|(u, _)| *u == written) else {
                     return Err(cell_error(
