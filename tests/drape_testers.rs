@@ -138,6 +138,8 @@ fn the_command_drapes_a_fabric_file_and_refuses_an_unknown_tester() {
         "one row per seed:\n{report}"
     );
     assert!(report.contains("href=\"seed-0/final.glb\""), "{report}");
+    assert!(report.contains("<img src=\"repeat.png\""), "{report}");
+    assert!(repeated.join("repeat.png").exists(), "repeat.png not written");
     let refused = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
         .args([
             "drape",

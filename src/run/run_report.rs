@@ -7,8 +7,8 @@ use super::RunOutcome;
 use super::declared_measures::declared_disk;
 use crate::material::Fabric;
 use crate::output::{
-    OutputError, Report, ReportTable, TopViewOutline, fabric_sheet, write_glb, write_obj, write_side_view,
-    write_top_view,
+    OutputError, Report, ReportTable, TopViewOutline, fabric_sheet, write_glb, write_obj, write_repeat_plot,
+    write_side_view, write_top_view,
 };
 use crate::scene::{ColliderShape, FabricSource, Scene};
 
@@ -272,7 +272,8 @@ fn scene_fabric_sheet(scene: &Scene) -> Option<String> {
 }
 
 /// Writes `dir/report.html` for `--repeat`: the modal node count and DC's mean and spread, one
-/// row per seed, the first seed's pictures and 3D view (from `seed-0/`), and the fabric.
+/// row per seed, `repeat.png` (DC by seed), the first seed's pictures and 3D view (from
+/// `seed-0/`), and the fabric.
 pub fn write_repeat_report(
     scene: &Scene,
     outcomes: &[RunOutcome],
@@ -317,11 +318,25 @@ pub fn write_repeat_report(
         })
         .collect();
     let first = dir.join("seed-0");
-    let pictures = ["top.png", "side.png"]
+    let runs: Vec<(Option<f64>, Option<u32>)> = outcomes
         .iter()
-        .filter(|f| first.join(f).exists())
-        .map(|f| (format!("seed-0/{f}"), format!("seed 0: {f}")))
+        .map(|o| (o.metrics.drape_coefficient, o.metrics.nodes))
         .collect();
+    let mut pictures = Vec::new();
+    if runs.iter().any(|r| r.0.is_some()) {
+        write_repeat_plot(dir, &runs)?;
+        pictures.push((
+            "repeat.png".to_string(),
+            "DC by seed, node counts beside; the line is the mean, the band one standard deviation"
+                .to_string(),
+        ));
+    }
+    pictures.extend(
+        ["top.png", "side.png"]
+            .iter()
+            .filter(|f| first.join(f).exists())
+            .map(|f| (format!("seed-0/{f}"), format!("seed 0: {f}"))),
+    );
     Report {
         title: format!("{}: {} runs", scene.spec.name, summary.runs),
         figures,
