@@ -15,20 +15,17 @@ const UNSIGNED_INT: u32 = 5125;
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
-/// Unit normal at every node: the area-weighted sum of its triangles' normals.
+/// Unit normal at every node (the cloth's surface normal, as contacts use it); straight up
+/// where a node's triangles cancel.
 fn vertex_normals(topology: &ClothTopology, positions: &[DVec3]) -> Vec<DVec3> {
-    let mut normals = vec![DVec3::ZERO; positions.len()];
-    for &[a, b, c] in &topology.triangles {
-        let (a, b, c) = (a as usize, b as usize, c as usize);
-        let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-        for i in [a, b, c] {
-            normals[i] += n;
+    let mut normals = Vec::new();
+    crate::bodies::sheet_normals(topology, positions, &mut normals);
+    for n in &mut normals {
+        if *n == DVec3::ZERO {
+            *n = DVec3::Y;
         }
     }
     normals
-        .into_iter()
-        .map(|n| n.try_normalize().unwrap_or(DVec3::Y))
-        .collect()
 }
 
 /// The GLB bytes of the mesh named `name`.
