@@ -61,7 +61,7 @@ fn check_gradient(name: &str, generator: &dyn ForceGenerator, topo: &Arc<ClothTo
 }
 
 fn check_fabric(fabric: &Fabric) {
-    let topo = Arc::new(ClothTopology::rectangle(NU, NV, SIGMA));
+    let topo = Arc::new(common::patched_rectangle(NU, NV, SIGMA));
     for (name, x) in common::strained_configurations(&topo) {
         for g in generators(&topo, fabric) {
             check_gradient(&format!("{} / {name}", fabric.name), g.as_ref(), &topo, &x);

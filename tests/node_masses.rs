@@ -69,3 +69,48 @@ fn cell_areas_of_a_circle_undercount_its_staircase_hem() {
     let uniform = t.node_masses(0.2, NodeMass::Uniform);
     assert!(uniform.iter().all(|&m| m == 0.2 * cell));
 }
+
+/// With the outline's widths shared, a strip's warp bending springs across any column stand for
+/// its true width: on a 7 × 5 rectangle (4σ wide) every interior column's springs sum to 4
+/// spacings, not the 5 whole ones of the uniform lumping. Weft springs likewise sum to the 6σ
+/// length along each interior row.
+#[test]
+fn bending_widths_of_a_strip_sum_to_its_true_width() {
+    let mut t = ClothTopology::rectangle(7, 5, 0.01);
+    assert!(t.bend_patch.iter().all(|&p| p == [1.0, 1.0]));
+    t.share_outline_widths();
+    let sum_at = |thread_warp: bool, line: u32| -> f64 {
+        (0..t.bend_particles.len())
+            .filter(|&s| (s < t.warp_bend_count) == thread_warp)
+            .filter(|&s| {
+                let (i, j) = t.grid_coords[t.bend_particles[s][1] as usize];
+                if thread_warp { i == line } else { j == line }
+            })
+            .map(|s| t.bend_patch[s][0])
+            .sum()
+    };
+    for i in 1..6 {
+        assert_eq!(sum_at(true, i), 4.0, "warp springs centred on column {i}");
+    }
+    for j in 1..4 {
+        assert_eq!(sum_at(false, j), 6.0, "weft springs centred on row {j}");
+    }
+}
+
+/// Held nodes: only the springs whose middle node and one end are held (where a thread leaves
+/// the clamp) stand for half a spacing along; springs wholly inside or outside keep a whole one.
+#[test]
+fn a_clamp_halves_only_the_springs_on_its_edge() {
+    let mut t = ClothTopology::rectangle(6, 3, 0.01);
+    // The first three columns of crossings (i = 0, 1, 2) held.
+    let held: Vec<usize> = (0..t.particle_count)
+        .filter(|&k| t.grid_coords[k].0 <= 2)
+        .collect();
+    t.hold_rigidly(&held);
+    for (s, &[a, b, c]) in t.bend_particles.iter().enumerate() {
+        let i = |p: u32| t.grid_coords[p as usize].0;
+        let on_edge = s < t.warp_bend_count && i(b) == 2 && i(a).max(i(c)) == 3;
+        let along = t.bend_patch[s][1];
+        assert_eq!(along, if on_edge { 0.5 } else { 1.0 }, "spring {s}: {a}-{b}-{c}");
+    }
+}

@@ -110,7 +110,7 @@ fn largest(m: &DMatrix<f64>) -> f64 {
 }
 
 fn check_fabric(fabric: &Fabric) {
-    let topo = Arc::new(ClothTopology::rectangle(NU, NV, SIGMA));
+    let topo = Arc::new(common::patched_rectangle(NU, NV, SIGMA));
     for (state, x) in common::strained_configurations(&topo) {
         for g in elastic_generators(&topo, fabric) {
             let name = format!("{} / {state} / {}", fabric.name, g.effect());
@@ -345,7 +345,7 @@ fn check_same(name: &str, expected: &DMatrix<f64>, (dense, blocks): &(DMatrix<f6
 #[test]
 fn assembled_matrices_equal_the_products() {
     let fabric = common::shipped_fabric("thick_cotton");
-    let topo = Arc::new(ClothTopology::rectangle(NU, NV, SIGMA));
+    let topo = Arc::new(common::patched_rectangle(NU, NV, SIGMA));
     let flat = topo.rest_positions(DVec3::ZERO, DVec3::X, DVec3::Z);
     for (state, x) in common::strained_configurations(&topo) {
         let mut geo = ClothGeometry::new(topo.clone());

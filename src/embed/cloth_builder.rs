@@ -417,7 +417,18 @@ impl ClothBuilder {
 
     /// Adds the bodies, joints and pins, with `integrator`.
     fn assemble(self, world: &mut PhysicsWorld, integrator: Integrator) -> ClothParts {
-        let (topology, mut positions) = self.grid();
+        let (mut topology, mut positions) = self.grid();
+        // Nodes pinned to a body that cannot move: held in place, as a clamp holds them.
+        let held: Vec<usize> = self
+            .pins
+            .iter()
+            .filter(|pin| world.bodies.get(pin.body).is_some_and(|b| !b.is_dynamic()))
+            .filter_map(|pin| topology.grid_coords.iter().position(|&c| c == pin.node))
+            .collect();
+        topology.hold_rigidly(&held);
+        if self.node_mass == NodeMass::CellArea {
+            topology.share_outline_widths();
+        }
         let topology = Arc::new(topology);
         let (amplitude, seed) = self.perturbation;
         if amplitude > 0.0 {
@@ -436,13 +447,8 @@ impl ClothBuilder {
             gravity: self.gravity,
         };
         let mut bodies = ClothBodies::spawn(world, &topology, &positions, &options);
-        // Nodes pinned to a body that cannot move: the implicit solve holds them too.
-        let mut held = Vec::new();
         for pin in &self.pins {
             if let Some(node) = topology.grid_coords.iter().position(|&c| c == pin.node) {
-                if world.bodies.get(pin.body).is_some_and(|b| !b.is_dynamic()) {
-                    held.push(node);
-                }
                 if world.bodies.get(pin.body).is_some_and(|b| b.is_kinematic()) {
                     bodies.moving_pins.push((node, pin.body, pin.anchor));
                 }
@@ -458,6 +464,7 @@ impl ClothBuilder {
             implicit: match integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => {
+                    // The held nodes stay put in the implicit solve too.
                     let mut solver = ImplicitSolver::with_masses(topology.clone(), masses, settings);
                     for node in held {
                         solver.hold(node);

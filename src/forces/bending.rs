@@ -11,6 +11,11 @@
 //! Each spring stands for a σ×σ patch of cloth, so its energy is E = σ²·∫₀^K M(k) dk (J).
 //! For M = B·K that is B·(1 + cos θ), independent of σ. Forces are −∇E, written through
 //! c = cos θ: on the circle branch dE/dc = M(K)/K, finite even for a straight thread.
+//!
+//! A spring standing for a patch w·σ across by λ·σ along its thread
+//! ([`ClothTopology::bend_patch`]) bends over λ·σ: its curvature is K(θ) at spacing λσ and its
+//! energy w·λ·σ²·∫₀^K M(k) dk, which is (w/λ) times a whole spring's at spacing λσ (for
+//! M = B·K, (w/λ)·B·(1 + cos θ)).
 
 use std::f64::consts::FRAC_PI_4;
 use std::sync::Arc;
@@ -83,10 +88,10 @@ impl Bending {
         }
     }
 
-    /// Energy E (J) and dE/dc of one spring, c = cos θ; `sin_theta` ≥ 0.
+    /// Energy E (J) and dE/dc of one whole spring bending over `sigma` (m), c = cos θ;
+    /// `sin_theta` ≥ 0.
     #[inline(always)]
-    fn spring(&self, curve: &ElasticCurve, c: f64, sin_theta: f64) -> (f64, f64) {
-        let sigma = self.topology.spacing;
+    fn spring(curve: &ElasticCurve, sigma: f64, c: f64, sin_theta: f64) -> (f64, f64) {
         if c < COS_SWITCH {
             let k = 2.0 / sigma * (0.5 * (1.0 + c)).max(0.0).sqrt();
             (sigma * sigma * curve.integral(k), curve.secant(k))
@@ -100,9 +105,9 @@ impl Bending {
         }
     }
 
-    /// dE/dc and d²E/dc² (J) of one spring, c = cos θ; `sin_theta` ≥ 0.
-    fn spring_tangent(&self, curve: &ElasticCurve, c: f64, sin_theta: f64) -> (f64, f64) {
-        let sigma = self.topology.spacing;
+    /// dE/dc and d²E/dc² (J) of one whole spring bending over `sigma` (m), c = cos θ;
+    /// `sin_theta` ≥ 0.
+    fn spring_tangent(curve: &ElasticCurve, sigma: f64, c: f64, sin_theta: f64) -> (f64, f64) {
         if c < COS_SWITCH {
             // dK/dc = 1/(σ²K): dE/dc = M/K, d²E/dc² = (M' − M/K)/(σ²K²), zero for a linear M.
             let k = 2.0 / sigma * (0.5 * (1.0 + c)).max(0.0).sqrt();
@@ -128,6 +133,20 @@ impl Bending {
     fn curve(&self, bend: usize) -> &ElasticCurve {
         &self.moment[self.topology.bend_thread(bend) as usize]
     }
+
+    /// Spring `s`'s bending length λσ (m) and the factor w/λ on a whole spring's energy there.
+    #[inline(always)]
+    fn patch(&self, s: usize) -> (f64, f64) {
+        let [across, along] = self.topology.bend_patch[s];
+        (along * self.topology.spacing, across / along)
+    }
+
+    /// [`Self::spring_tangent`] of spring `s`, its patch included.
+    fn tangent(&self, s: usize, c: f64, sin_theta: f64) -> (f64, f64) {
+        let (sigma, scale) = self.patch(s);
+        let (d1, d2) = Self::spring_tangent(self.curve(s), sigma, c, sin_theta);
+        (scale * d1, scale * d2)
+    }
 }
 
 impl ForceGenerator for Bending {
@@ -141,8 +160,8 @@ impl ForceGenerator for Bending {
             .map(|s| {
                 let [l1, l2] = topo.bend_links[s];
                 let (u, w) = (-geometry.unit[l1 as usize], geometry.unit[l2 as usize]);
-                let c = u.dot(w);
-                self.spring(self.curve(s), c, u.cross(w).length()).0
+                let (sigma, scale) = self.patch(s);
+                scale * Self::spring(self.curve(s), sigma, u.dot(w), u.cross(w).length()).0
             })
             .sum()
     }
@@ -154,7 +173,9 @@ impl ForceGenerator for Bending {
             let curve = &self.moment[thread];
             // For M = B·K the circle branch has dE/dc = M/K = B: no square root needed.
             let linear = curve.as_linear();
-            for &links in &topo.bend_links[range] {
+            for s in range {
+                let links = topo.bend_links[s];
+                let (sigma, scale) = self.patch(s);
                 let (u, w) = (
                     -geometry.unit[links[0] as usize],
                     geometry.unit[links[1] as usize],
@@ -164,14 +185,15 @@ impl ForceGenerator for Bending {
                     geometry.inv_length[links[1] as usize],
                 );
                 let (c, grad_a, grad_c) = cos_angle_gradients(u, w, inv_lu, inv_lw);
-                let de_dc = match linear {
-                    Some(rigidity) if c < COS_SWITCH => rigidity,
-                    // The fold branch needs sin θ; the circle branch does not.
-                    _ => {
-                        self.spring(curve, c, if c < COS_SWITCH { 0.0 } else { u.cross(w).length() })
-                            .1
-                    }
-                };
+                let de_dc = scale
+                    * match linear {
+                        Some(rigidity) if c < COS_SWITCH => rigidity,
+                        // The fold branch needs sin θ; the circle branch does not.
+                        _ => {
+                            let sin_theta = if c < COS_SWITCH { 0.0 } else { u.cross(w).length() };
+                            Self::spring(curve, sigma, c, sin_theta).1
+                        }
+                    };
                 // Link a→b carries −(force on a) at its end b; link b→c carries the force on c.
                 forces.link[links[0] as usize] += de_dc * grad_a;
                 forces.link[links[1] as usize] -= de_dc * grad_c;
@@ -192,7 +214,7 @@ impl ForceGenerator for Bending {
         for (s, &[l1, l2]) in topo.bend_links.iter().enumerate() {
             let (l1, l2) = (l1 as usize, l2 as usize);
             let (u, w) = (-geometry.unit[l1], geometry.unit[l2]);
-            let tangent = self.spring_tangent(self.curve(s), u.dot(w), u.cross(w).length());
+            let tangent = self.tangent(s, u.dot(w), u.cross(w).length());
             let (hu, hw) = angle_hessian_product(
                 (u, w),
                 (geometry.inv_length[l1], geometry.inv_length[l2]),
@@ -208,7 +230,7 @@ impl ForceGenerator for Bending {
     fn add_stiffness_blocks(&self, geometry: &ClothGeometry, scale: f64, matrix: &mut LinkMatrix) {
         for (s, &[l1, l2]) in self.topology.bend_links.iter().enumerate() {
             let (u, w) = (-geometry.unit[l1 as usize], geometry.unit[l2 as usize]);
-            let tangent = self.spring_tangent(self.curve(s), u.dot(w), u.cross(w).length());
+            let tangent = self.tangent(s, u.dot(w), u.cross(w).length());
             add_angle_blocks(geometry, matrix, matrix.bend_slot(s), tangent, scale);
         }
     }

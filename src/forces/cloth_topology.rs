@@ -15,7 +15,8 @@ pub enum NodeMass {
     #[default]
     Uniform,
     /// Each node carries the cell area it stands for ([`ClothTopology::cell_areas`]): ½σ² on an
-    /// edge, ¼σ² at a corner, so the cloth weighs what its outline holds.
+    /// edge, ¼σ² at a corner, so the cloth weighs what its outline holds; each bending spring
+    /// likewise the width it stands for ([`ClothTopology::share_outline_widths`]).
     CellArea,
 }
 
@@ -39,6 +40,11 @@ pub struct ClothTopology {
     pub bend_links: Vec<[u32; 2]>,
     /// How many bending springs lie along the warp.
     pub warp_bend_count: usize,
+    /// For each bending spring, the patch of cloth it stands for as fractions of σ,
+    /// `[across, along]` its thread: `[1, 1]` inside the cloth (a σ × σ patch). Across is ½ on an
+    /// outline the thread runs along ([`Self::share_outline_widths`]); along is ½ where the thread
+    /// leaves a held segment at the spring's middle node ([`Self::hold_rigidly`]).
+    pub bend_patch: Vec<[f64; 2]>,
     /// Crossings with all four neighbours, as their links `[+warp, +weft, −warp, −weft]`: the
     /// first two leave the crossing, the last two arrive at it. Each holds four trellis corners,
     /// which the trellis loop evaluates together so that each link is read and written once.
@@ -196,6 +202,7 @@ impl ClothTopology {
         Self {
             spacing,
             particle_count: grid_coords.len(),
+            bend_patch: vec![[1.0, 1.0]; bend_particles.len()],
             triangles,
             grid_coords,
             links,
@@ -232,12 +239,8 @@ impl ClothTopology {
         }
     }
 
-    /// The area (m²) each node stands for: its cell of σ × σ around it, halved along a thread
-    /// for each side on which it has no neighbour along that thread (an edge node ½σ², a
-    /// corner ¼σ²). They sum to the area the lattice's links enclose (for a rectangle, the
-    /// specimen's own area), so mass ρ_A·area puts on a free edge the half cell it carries.
-    pub fn cell_areas(&self) -> Vec<f64> {
-        // Per node: links along the warp and along the weft.
+    /// Per node, how many links it has along the warp and along the weft (0, 1 or 2 each).
+    fn thread_link_counts(&self) -> (Vec<u8>, Vec<u8>) {
         let mut warp = vec![0u8; self.particle_count];
         let mut weft = vec![0u8; self.particle_count];
         for (k, &[p, q]) in self.links.iter().enumerate() {
@@ -249,12 +252,59 @@ impl ClothTopology {
             count[p as usize] += 1;
             count[q as usize] += 1;
         }
-        // A node with no link along a thread (a lone column) keeps half a cell that way.
-        let fraction = |links: u8| f64::from(links.clamp(1, 2)) / 2.0;
+        (warp, weft)
+    }
+
+    /// The share of a cell's side a node stands for along a thread on which it has `links`
+    /// links: ½ at the end of the thread, 1 inside (a lone node keeps ½).
+    fn side_share(links: u8) -> f64 {
+        f64::from(links.clamp(1, 2)) / 2.0
+    }
+
+    /// The area (m²) each node stands for: its cell of σ × σ around it, halved along a thread
+    /// for each side on which it has no neighbour along that thread (an edge node ½σ², a
+    /// corner ¼σ²). They sum to the area the lattice's links enclose (for a rectangle, the
+    /// specimen's own area), so mass ρ_A·area puts on a free edge the half cell it carries.
+    pub fn cell_areas(&self) -> Vec<f64> {
+        let (warp, weft) = self.thread_link_counts();
         warp.iter()
             .zip(&weft)
-            .map(|(&u, &v)| self.spacing * self.spacing * fraction(u) * fraction(v))
+            .map(|(&u, &v)| self.spacing * self.spacing * Self::side_share(u) * Self::side_share(v))
             .collect()
+    }
+
+    /// Gives each bending spring the width of cloth its middle node stands for across its
+    /// thread, as [`Self::cell_areas`] does for mass: half a spacing for a thread running along
+    /// the outline, so that a strip of n threads bends with the rigidity of its true width
+    /// (n − 1)·σ, not n·σ.
+    pub fn share_outline_widths(&mut self) {
+        let (warp, weft) = self.thread_link_counts();
+        for (s, &[_, b, _]) in self.bend_particles.iter().enumerate() {
+            let across = if s < self.warp_bend_count { &weft } else { &warp };
+            self.bend_patch[s][0] = Self::side_share(across[b as usize]);
+        }
+    }
+
+    /// Declares the nodes `held` (indices) held in place, as a clamp holds them. A bending
+    /// spring whose middle node and one end are held is where the thread leaves the clamp: the
+    /// held link is straight, so the spring's curvature lies on the half spacing beyond the
+    /// middle node, and the spring stands for that half (`along` = ½, twice the stiffness of a
+    /// whole spacing for a linear M(K)). This is the clamped end θ = 0 of the continuum
+    /// discretised consistently; with a whole spacing the first free link turns by twice the
+    /// angle the continuum gives it, an error of first order in σ.
+    pub fn hold_rigidly(&mut self, held: &[usize]) {
+        let mut is_held = vec![false; self.particle_count];
+        for &k in held {
+            if let Some(h) = is_held.get_mut(k) {
+                *h = true;
+            }
+        }
+        for (s, &[a, b, c]) in self.bend_particles.iter().enumerate() {
+            let [a, b, c] = [a, b, c].map(|p| is_held[p as usize]);
+            if b && (a != c) {
+                self.bend_patch[s][1] = 0.5;
+            }
+        }
     }
 
     /// Each node's mass (kg) for a fabric of `areal_density` (kg/m²) under `rule`.

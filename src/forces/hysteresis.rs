@@ -119,8 +119,10 @@ impl Hysteresis {
             .map(|&l| geometry.unit[l as usize])
             .sum::<DVec3>();
         let normal = (w - u).cross(cross).normalize_or_zero();
+        // A spring standing for λσ along its thread bends over λσ (ClothTopology::bend_patch).
+        let along = self.topology.bend_patch[s][1];
         SpringShape {
-            curvature: (u + w).dot(normal) / self.topology.spacing,
+            curvature: (u + w).dot(normal) / (along * self.topology.spacing),
             u,
             w,
             normal,
@@ -143,7 +145,8 @@ impl Hysteresis {
         }
         let [l1, l2] = self.topology.bend_links[s].map(|l| l as usize);
         let (u, w, n) = (shape.u, shape.w, shape.normal);
-        let sm = self.topology.spacing * m;
+        // E' = w·λ·σ²·m·K_n with K_n over λσ: the force scales with the width w alone.
+        let sm = self.topology.bend_patch[s][0] * self.topology.spacing * m;
         let de_da = sm * geometry.inv_length[l1] * (n - u.dot(n) * u);
         let de_dc = sm * geometry.inv_length[l2] * (n - w.dot(n) * w);
         // Link a→b carries −(force on a) at b; link b→c carries the force on c.
@@ -180,7 +183,8 @@ impl ForceGenerator for Hysteresis {
             for s in 0..self.bend_slip.len() {
                 let k = self.spring(geometry, s).curvature;
                 let law = &laws[self.topology.bend_thread(s) as usize];
-                e += sigma2 * law.stored_energy(self.bend_response(laws, s, k).value);
+                let [across, along] = self.topology.bend_patch[s];
+                e += across * along * sigma2 * law.stored_energy(self.bend_response(laws, s, k).value);
             }
         }
         if let Some(law) = &self.shear {
@@ -256,7 +260,8 @@ impl ForceGenerator for Hysteresis {
                 if !r.sticking {
                     continue;
                 }
-                let f1 = law.stick_stiffness;
+                let [across, along] = self.topology.bend_patch[s];
+                let f1 = law.stick_stiffness * across / along;
                 let (hu, hw) =
                     angle_hessian_product((u, w), (inv[l1], inv[l2]), (f1, 0.0), (-d[l1], d[l2]), clamp);
                 out.link[l1] -= scale * hu;
@@ -284,7 +289,8 @@ impl ForceGenerator for Hysteresis {
                 }
                 // Sticking elements only, as in the product.
                 if self.bend_response(laws, s, shape.curvature).sticking {
-                    let f1 = laws[self.topology.bend_thread(s) as usize].stick_stiffness;
+                    let [across, along] = self.topology.bend_patch[s];
+                    let f1 = laws[self.topology.bend_thread(s) as usize].stick_stiffness * across / along;
                     add_angle_blocks(geometry, matrix, matrix.bend_slot(s), (f1, 0.0), scale);
                 }
             }
@@ -315,7 +321,8 @@ impl ForceGenerator for Hysteresis {
                 let r = self.bend_response(laws, s, k);
                 let old = self.bend_slip[s];
                 if !old.is_nan() {
-                    dissipated += sigma2 * r.value.abs() * (r.slip - old).abs();
+                    let [across, along] = self.topology.bend_patch[s];
+                    dissipated += across * along * sigma2 * r.value.abs() * (r.slip - old).abs();
                 }
                 self.bend_slip[s] = r.slip;
             }

@@ -84,7 +84,7 @@ pub struct ClothSpec {
     pub pins_m: Vec<[f64; 3]>,
     /// How the cloth's mass is shared among its nodes: `Uniform` (default: ρ_A·σ² each, outline
     /// nodes included) or `CellArea` (the cell area each node stands for: ½σ² on an edge, ¼σ² at
-    /// a corner; `docs/model.md` §1).
+    /// a corner, and each bending spring the width it stands for; `docs/model.md` §1).
     #[serde(default)]
     pub node_mass: NodeMass,
     /// Length (m) of the strip's root held as by a clamp: every node of the flat cloth within

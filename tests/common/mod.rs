@@ -72,6 +72,19 @@ pub fn rejection_message<T, E: std::fmt::Display>(
     }
 }
 
+/// An `nu × nv` rectangle whose springs are not all whole: the outline's bending widths shared
+/// (half a spacing along the edges) and the first column held as by a clamp (the springs on
+/// the clamp's edge half a spacing long), so that tests of forces and Hessians cover every patch.
+pub fn patched_rectangle(nu: usize, nv: usize, sigma: f64) -> ClothTopology {
+    let mut t = ClothTopology::rectangle(nu, nv, sigma);
+    t.share_outline_widths();
+    let held: Vec<usize> = (0..t.particle_count)
+        .filter(|&k| t.grid_coords[k].0 == 0)
+        .collect();
+    t.hold_rigidly(&held);
+    t
+}
+
 /// Named configurations of a rectangular grid of at least 5 × 2 nodes (spacing σ): random
 /// (±σ/4), bent round a cylinder (θ ≈ 130°), folded back on itself at 0.5 and 0.2 rad (< π/4),
 /// and sheared by 20°, 45° and 60°.
