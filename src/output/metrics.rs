@@ -126,6 +126,10 @@ pub struct Metrics {
     pub creep_max_node_m: Option<f64>,
     /// Displacement of the nodes' centroid over the creep check (m).
     pub creep_centroid_m: Option<f64>,
+    /// The numerical error of the measured values, estimated from a companion run on a
+    /// coarser lattice (`kes-cloth run` without `--no-error-estimate`; see
+    /// [`crate::run::ErrorEstimate`]). `None` when not estimated.
+    pub numerical_error: Option<crate::run::ErrorEstimate>,
     /// Set when the run stopped on a non-finite value.
     pub failure: Option<FailureReport>,
     /// The run was interrupted (Ctrl-C) before it settled or reached its time limit: these are

@@ -2,6 +2,7 @@
 //! measurements the scene declares and write the output files.
 
 mod declared_measures;
+mod error_estimate;
 mod run_loop;
 mod run_report;
 
@@ -13,6 +14,9 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 
 pub use declared_measures::{CantileverBend, Measured, TableHang, declared_disk, measure_declared};
+pub use error_estimate::{
+    ASSUMED_ORDER, ErrorEstimate, Estimated, companion_ratio, companion_scene, measures_something,
+};
 pub use run_report::{summary, write_outputs, write_repeat_report};
 
 use crate::checkpoint::{CheckpointError, Snapshot};
@@ -73,6 +77,38 @@ pub struct DivergenceError(pub FailureReport);
 pub fn simulate(scene: &Scene, options: &RunOptions) -> RunOutcome {
     let (world, cloth) = crate::scene::spawn::spawn(scene);
     run_to_end(scene, world, cloth, options, 0.0)
+}
+
+/// Estimates the numerical error of a finished run's measured values by running its companion
+/// on a coarser lattice ([`companion_scene`]) with `options` (no checkpoints), and records it in
+/// the run's metrics. Nothing is run for a run that failed or was interrupted, or for a scene
+/// that measures nothing; a companion that cannot be built is recorded as the reason.
+pub fn estimate_error(scene: &Scene, outcome: &mut RunOutcome, options: &RunOptions) {
+    let m = &outcome.metrics;
+    if m.failure.is_some() || m.interrupted || !measures_something(scene) {
+        return;
+    }
+    let ratio = companion_ratio(scene);
+    let options = RunOptions {
+        checkpoint: None,
+        ..options.clone()
+    };
+    let estimate = match companion_scene(scene) {
+        Ok(companion) => ErrorEstimate::from_runs(m, &simulate(&companion, &options).metrics, ratio),
+        Err(e) => ErrorEstimate {
+            companion_spacing_m: scene.spec.cloth.spacing_m * ratio,
+            ratio,
+            assumed_order: ASSUMED_ORDER,
+            companion_settled: false,
+            drape_coefficient: None,
+            companion_nodes: None,
+            hang_corners_m: None,
+            companion_skirt_folds: None,
+            cantilever_chord_deg: None,
+            companion_failure: Some(format!("no companion run: {e}")),
+        },
+    };
+    outcome.metrics.numerical_error = Some(estimate);
 }
 
 /// Continues the run whose checkpoint is in `dir` to its end, writing further checkpoints there

@@ -253,6 +253,7 @@ fn run_metrics(
     let settle = world.resource::<SettleState>();
     let ledger = world.resource::<EffectLedger>();
     Metrics {
+        numerical_error: None,
         integrator: format!("{:?}", scene.spec.integration.integrator),
         cg_iterations_mean: implicit.map(|s| s.iterations as f64 / s.solves.max(1) as f64),
         cg_unconverged_steps: implicit.map(|s| s.unconverged),

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use super::RunOutcome;
 use super::declared_measures::declared_disk;
+use super::{ErrorEstimate, Estimated, RunOutcome};
 use crate::material::Fabric;
 use crate::output::{
     OutputError, Report, ReportTable, TopViewOutline, fabric_sheet, write_glb, write_obj, write_repeat_plot,
@@ -129,12 +129,13 @@ fn write_report(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), O
         ),
     ];
     if let (Some(dc), Some(nodes)) = (m.drape_coefficient, m.nodes) {
+        let error = plus_minus(m.numerical_error.as_ref(), |e| e.drape_coefficient, 1.0, 3);
         figures.push((
             "drape coefficient DC".to_string(),
             format!(
-                "{dc:.3} (one run: its spread over seeds and lattice placements is what \
-                 `--repeat N --placements` measures, its error from the spacing what \
-                 `kes-cloth converge` measures)"
+                "{dc:.3}{error} (one run; ± from a run at a coarser spacing, see the summary; \
+                 the spread over seeds and lattice placements is what `--repeat N --placements` \
+                 measures, the extrapolated value what `kes-cloth converge` gives)"
             ),
         ));
         figures.push(("nodes (folds)".to_string(), nodes.to_string()));
@@ -223,27 +224,38 @@ pub fn summary(outcome: &RunOutcome) -> String {
             centroid * 1e3
         );
     }
+    let estimate = m.numerical_error.as_ref();
     if let (Some(dc), Some(n)) = (m.drape_coefficient, m.nodes) {
         let tag = if m.settled {
             ""
         } else {
             " (provisional: not settled)"
         };
-        s += &format!("  drape coefficient {dc:.3}, {n} nodes{tag}\n");
+        let error = plus_minus(estimate, |e| e.drape_coefficient, 1.0, 3);
+        let companion_nodes = estimate
+            .and_then(|e| e.companion_nodes)
+            .map_or(String::new(), |c| format!(" ({c} at the coarser spacing)"));
+        s += &format!("  drape coefficient {dc:.3}{error}, {n} nodes{companion_nodes}{tag}\n");
     }
     if let (Some(chord), Some(exact)) = (m.cantilever_chord_deg, m.cantilever_exact_deg) {
+        let error = plus_minus(estimate, |e| e.cantilever_chord_deg, 1.0, 2);
         s += &format!(
-            "  cantilever chord {chord:.2}° below the horizontal; the heavy elastica's {exact:.2}° ({:+.2}°)\n",
+            "  cantilever chord {chord:.2}°{error} below the horizontal; the heavy elastica's {exact:.2}° ({:+.2}°)\n",
             chord - exact
         );
     }
     if let (Some(c), Some(side), Some(f)) = (m.hang_corners_m, m.hang_mid_sides_m, m.skirt_folds) {
+        let error = plus_minus(estimate, |e| e.hang_corners_m, 1e3, 1);
+        let companion_folds = estimate
+            .and_then(|e| e.companion_skirt_folds)
+            .map_or(String::new(), |c| format!(" ({c} at the coarser spacing)"));
         s += &format!(
-            "  hang: corners {:.1} mm, mid-sides {:.1} mm; {f} skirt folds\n",
+            "  hang: corners {:.1}{error} mm, mid-sides {:.1} mm; {f} skirt folds{companion_folds}\n",
             c * 1e3,
             side * 1e3
         );
     }
+    s += &estimate_line(estimate);
     let ours: f64 = m
         .effects
         .iter()
@@ -257,6 +269,43 @@ pub fn summary(outcome: &RunOutcome) -> String {
     }
     s += &format!(", Rapier's step {rapier:.2} s");
     s
+}
+
+/// " ± E" for a quantity with an estimated numerical error (scaled by `unit`, `digits` after the
+/// point), " (numerical error not estimated)" otherwise.
+fn plus_minus(
+    estimate: Option<&ErrorEstimate>,
+    pick: fn(&ErrorEstimate) -> Option<Estimated>,
+    unit: f64,
+    digits: usize,
+) -> String {
+    match estimate.and_then(pick) {
+        Some(e) => format!(" ± {:.digits$}", e.error * unit),
+        None => " (numerical error not estimated)".to_string(),
+    }
+}
+
+/// How the numerical errors above were estimated (or why they were not).
+fn estimate_line(estimate: Option<&ErrorEstimate>) -> String {
+    match estimate {
+        None => String::new(),
+        Some(e) => match &e.companion_failure {
+            Some(why) => format!("  numerical error not estimated: {why}\n"),
+            None => format!(
+                "  ± estimates the numerical error as {:.0}× |this run − the same scene at {:.2} mm \
+                 ({}× the spacing{})|, an error of first order in the spacing; `kes-cloth \
+                 converge` measures the order and extrapolates\n",
+                1.0 / (e.ratio.powf(e.assumed_order) - 1.0),
+                e.companion_spacing_m * 1e3,
+                e.ratio,
+                if e.companion_settled {
+                    ""
+                } else {
+                    ", which did not settle"
+                },
+            ),
+        },
+    }
 }
 
 /// The sheet of the scene's fabric in KES and SI units, if its KES values can be read.

@@ -1,0 +1,83 @@
+//! A single run's numerical error, estimated from a companion run on a coarser lattice
+//! (`kes-cloth run`'s default).
+
+use std::process::Command;
+
+use kes_cloth::run::{RunOptions, estimate_error, simulate};
+use kes_cloth::scene::Scene;
+
+mod common;
+
+/// The cantilever at 2.5 mm, whose exact chord is known: the companion at 5 mm (twice the
+/// spacing, the clamp's edge staying on a row of nodes) gives an estimated error that covers the
+/// true one, and is not uselessly wide: the chord converges at second order, so the first-order
+/// estimate |f(σ) − f(2σ)| is about three times the true error; more than four would mean the
+/// estimate measures something other than the spacing.
+#[test]
+fn the_estimate_covers_the_cantilevers_true_error() {
+    let scene = Scene::load(
+        common::crate_path("scenes/bending_length/cantilever_wool.ron"),
+        &["cloth.spacing_m=0.0025".to_string()],
+    )
+    .unwrap();
+    let options = RunOptions::default();
+    let mut outcome = simulate(&scene, &options);
+    estimate_error(&scene, &mut outcome, &options);
+    let m = &outcome.metrics;
+    let estimate = m.numerical_error.as_ref().expect("an estimate");
+    assert_eq!(estimate.companion_spacing_m, 0.005);
+    let chord = estimate.cantilever_chord_deg.expect("a chord estimate");
+    let true_error = (m.cantilever_chord_deg.unwrap() - m.cantilever_exact_deg.unwrap()).abs();
+    assert!(
+        chord.error >= true_error && chord.error <= 4.0 * true_error,
+        "estimated {:.3}°, true {true_error:.3}°",
+        chord.error
+    );
+}
+
+/// `kes-cloth run` on a drape prints DC as value ± error and records the companion (1.5 times
+/// the spacing) in `metrics.json`; with `--no-error-estimate` it says the error is not estimated
+/// instead of printing a bare number. Thick cotton with the KES law, implicit at 1/240 s, 1.5 cm
+/// (each run about a second).
+#[test]
+fn run_prints_dc_with_its_error_or_says_it_is_not_estimated() {
+    let out = std::env::temp_dir().join("kes-cloth-error-estimate");
+    let run = |extra: &[&str]| {
+        let _ = std::fs::remove_dir_all(&out);
+        let o = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+            .args(["run", "scenes/drape_cotton.ron"])
+            .args(["--set", "cloth.spacing_m=0.015"])
+            .args(["--set", "integration.integrator=Implicit"])
+            .args(["--set", "integration.dt_s=0.0041666667"])
+            .args(["--set", "effects.stretch=Kes"])
+            .arg("--out")
+            .arg(&out)
+            .args(extra)
+            .current_dir(common::crate_path(""))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let metrics: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+        (String::from_utf8_lossy(&o.stdout).to_string(), metrics)
+    };
+
+    let (stdout, metrics) = run(&[]);
+    let e = &metrics["numerical_error"];
+    let companion = e["companion_spacing_m"].as_f64().unwrap();
+    assert!((companion - 0.0225).abs() < 1e-12, "{e}");
+    let dc = metrics["drape_coefficient"].as_f64().unwrap();
+    let other = e["drape_coefficient"]["companion"].as_f64().unwrap();
+    let error = e["drape_coefficient"]["error"].as_f64().unwrap();
+    // First order at r = 1.5: twice the difference.
+    assert!((error - 2.0 * (dc - other).abs()).abs() < 1e-12, "{e}");
+    let line = format!("drape coefficient {dc:.3} ± {error:.3}");
+    assert!(stdout.contains(&line), "no '{line}' in:\n{stdout}");
+
+    let (stdout, metrics) = run(&["--no-error-estimate"]);
+    assert!(metrics["numerical_error"].is_null());
+    assert!(
+        stdout.contains("(numerical error not estimated)"),
+        "a bare DC:\n{stdout}"
+    );
+}
