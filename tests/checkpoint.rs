@@ -66,8 +66,9 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
             ],
         ),
     ] {
-        let sets: Vec<String> = sets.into_iter().map(String::from).collect();
-        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+        let mut all = common::explicit_drape("wool");
+        all.extend(sets.into_iter().map(String::from));
+        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &all).unwrap();
         let whole = simulate(&scene, &RunOptions::default());
 
         let dir = out_dir(name);

@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use kes_cloth::scene::{FabricSource, Scene, Tester, tester_scene};
+use kes_cloth::material::Thread;
+use kes_cloth::scene::{FabricSource, IntegratorSpec, Scene, Tester, tester_scene};
 
 mod common;
 
@@ -34,8 +35,8 @@ fn assert_same_scene(tester: Tester, scene: &str, fabric: &str) {
 
 /// Every shipped scene of a built-in tester is what `drape` builds for its fabric: the seed's
 /// drapemeter (drape_*), the Cusick tester with a 30 cm specimen (cusick_*) and the tablecloth
-/// (tablecloth_*), for thin wool (7.5 mm on the drapemeters, c = 1.53 cm) and thick cotton
-/// (1 cm, c = 2.6 cm).
+/// (tablecloth_*), for thin wool (c = 1.53 cm) and thick cotton (c = 2.6 cm): 3.75 mm on the
+/// drapemeters for both, at most a quarter of c.
 #[test]
 fn each_tester_builds_the_shipped_scene_of_its_fabric() {
     for (fabric, short) in [("thin_wool", "wool"), ("thick_cotton", "cotton")] {
@@ -49,9 +50,10 @@ fn each_tester_builds_the_shipped_scene_of_its_fabric() {
     }
 }
 
-/// The 24 and 36 cm Cusick specimens are circles of that diameter on the 18 cm disk; the step
-/// chosen for a fabric no shipped scene uses lies within the stability guard's limit (the scene
-/// loads, so the guard accepted it) and is a round step.
+/// The 24 and 36 cm Cusick specimens are circles of that diameter on the 18 cm disk; a fabric
+/// no shipped scene uses gets the coarsest listed spacing within a quarter of its bending length
+/// and the drapemeters' BDF2 step of 1/240 s; on the (explicit) tablecloth its step lies within
+/// the stability guard's limit (the scene loads, so the guard accepted it) and is a round step.
 #[test]
 fn other_specimens_and_fabrics_get_the_rule() {
     for (tester, diameter) in [(Tester::Cusick24, 0.24), (Tester::Cusick36, 0.36)] {
@@ -67,12 +69,29 @@ fn other_specimens_and_fabrics_get_the_rule() {
             "{}",
             tester.name()
         );
-        let dt = scene.spec.integration.dt_s;
-        let round = [1.0, 0.8, 0.5, 0.4, 0.25, 0.2, 0.125, 0.1]
-            .iter()
-            .any(|r| ((dt * 1e3 / r).log10() - (dt * 1e3 / r).log10().round()).abs() < 1e-9);
-        assert!(round, "step {dt} s is not a round step");
+        let c = scene
+            .fabric
+            .bending_length(Thread::Warp)
+            .min(scene.fabric.bending_length(Thread::Weft));
+        let expected = [0.00375, 0.0025, 0.001875, 0.00125]
+            .into_iter()
+            .find(|s| *s <= c / 4.0)
+            .unwrap_or(0.00125);
+        assert_eq!(scene.spec.cloth.spacing_m, expected, "c = {c} m");
+        assert_eq!(scene.spec.integration.integrator, IntegratorSpec::Bdf2);
+        assert!((scene.spec.integration.dt_s - 1.0 / 240.0).abs() < 1e-9);
     }
+    let scene = tester_scene(
+        Tester::Tablecloth,
+        &common::crate_path("assets/fabrics/polyester_faille.ron"),
+        &[],
+    )
+    .expect("builds");
+    let dt = scene.spec.integration.dt_s;
+    let round = [1.0, 0.8, 0.5, 0.4, 0.25, 0.2, 0.125, 0.1]
+        .iter()
+        .any(|r| ((dt * 1e3 / r).log10() - (dt * 1e3 / r).log10().round()).abs() < 1e-9);
+    assert!(round, "step {dt} s is not a round step");
 }
 
 /// The command runs a fabric file on a tester and writes what `run` writes, the report among

@@ -113,11 +113,9 @@ fn drape_coefficient_rises_with_bending_length() {
             let file = format!("fabric={{\"File\":\"{}\"}}", path.display());
             let step = format!("integration.dt_s={dt}");
             let spacing = "cloth.spacing_m=0.01".to_string();
-            Scene::load(
-                common::crate_path("scenes/drape_wool.ron"),
-                &[file, step, spacing],
-            )
-            .unwrap()
+            let mut sets = common::explicit_drape("wool");
+            sets.extend([file, step, spacing]);
+            Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap()
         })
         .collect();
     let mut rows: Vec<(f64, f64, String)> = scenes

@@ -13,10 +13,11 @@ fn effects_of(
     u64,
     std::collections::BTreeMap<String, kes_cloth::output::EffectCost>,
 ) {
-    let mut sets: Vec<String> = vec![
+    let mut sets: Vec<String> = common::explicit_drape("wool");
+    sets.extend::<[String; 2]>([
         "cloth.spacing_m=0.02".into(),
         "integration.max_time_s=0.05".into(),
-    ];
+    ]);
     sets.extend(overrides.iter().map(|s| s.to_string()));
     let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
     let m = simulate(&scene, &RunOptions::default()).metrics;

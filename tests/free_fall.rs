@@ -12,15 +12,19 @@ mod common;
 fn a_falling_cloth_accelerates_at_g_within_one_percent() {
     for fabric in ["thin_wool", "thick_cotton"] {
         let sets = [
-            "world.colliders=[]".to_string(),
-            "measure=None".to_string(),
-            "integration.max_time_s=0.2".to_string(),
-            // Within the stability guard for both fabrics at 1 cm (thick cotton's compression:
-            // 0.139 ms).
-            "cloth.spacing_m=0.01".to_string(),
-            "integration.dt_s=0.000125".to_string(),
-            format!("fabric={{\"File\":\"../assets/fabrics/{fabric}.ron\"}}"),
-        ];
+            common::explicit_drape("wool"),
+            vec![
+                "world.colliders=[]".to_string(),
+                "measure=None".to_string(),
+                "integration.max_time_s=0.2".to_string(),
+                // Within the stability guard for both fabrics at 1 cm (thick cotton's compression:
+                // 0.139 ms).
+                "cloth.spacing_m=0.01".to_string(),
+                "integration.dt_s=0.000125".to_string(),
+                format!("fabric={{\"File\":\"../assets/fabrics/{fabric}.ron\"}}"),
+            ],
+        ]
+        .concat();
         let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
         let outcome = simulate(&scene, &RunOptions::default());
         let t = outcome.metrics.sim_time_s;
@@ -48,11 +52,15 @@ fn a_falling_cloth_accelerates_at_g_within_one_percent() {
 #[test]
 fn step_speed_from_positions_is_the_fall_speed() {
     let sets = [
-        "world.colliders=[]".to_string(),
-        "measure=None".to_string(),
-        "integration.max_time_s=0.1".to_string(),
-        "integration.dt_s=0.0002".to_string(),
-    ];
+        common::explicit_drape("wool"),
+        vec![
+            "world.colliders=[]".to_string(),
+            "measure=None".to_string(),
+            "integration.max_time_s=0.1".to_string(),
+            "integration.dt_s=0.0002".to_string(),
+        ],
+    ]
+    .concat();
     let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
     let m = simulate(&scene, &RunOptions::default()).metrics;
     let fall = STANDARD_GRAVITY * m.sim_time_s;

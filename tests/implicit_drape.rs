@@ -17,8 +17,10 @@ mod common;
 const CONTACT_STEP: &str = "integration.dt_s=0.0041666667";
 
 fn drape(sets: &[&str]) -> kes_cloth::run::RunOutcome {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets).unwrap();
+    // The seed's explicit cotton drape (1 cm, rope joints), then `sets`.
+    let mut all = common::explicit_drape("cotton");
+    all.extend(sets.iter().map(|s| s.to_string()));
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &all).unwrap();
     simulate(&scene, &RunOptions::default())
 }
 

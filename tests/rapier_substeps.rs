@@ -52,13 +52,14 @@ fn a_kick_moves_a_free_node_by_symplectic_euler_at_any_substep_count() {
     }
 }
 
-/// The shipped thin-wool drape with 4 Rapier substeps settles like the one-substep run.
+/// The seed's explicit thin-wool drape with 4 Rapier substeps settles like the one-substep run.
 /// Bounds: the one-substep run peaks at 2.8 % link strain and settles at 1.3 s (measured); four
 /// substeps measured 2.7 % and 1.3 s. A growing explicit force shows as tens of percent of strain
 /// or a divergence failure within 0.05 s, far outside 5 %.
 #[test]
 fn explicit_forces_do_not_grow_under_rapier_substeps() {
-    let sets = ["integration.solver_iterations=4".to_string()];
+    let mut sets = common::explicit_drape("wool");
+    sets.push("integration.solver_iterations=4".to_string());
     let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
     let m = simulate(&scene, &RunOptions::default()).metrics;
     assert!(m.failure.is_none(), "{:?}", m.failure);

@@ -9,21 +9,32 @@ mod common;
 
 #[test]
 fn a_scene_run_twice_gives_bit_identical_results() {
-    for (scene, sets) in [
+    // The explicit path, the implicit one with rope joints, and the shipped scene (BDF2).
+    for (scene, base, sets) in [
         (
             "scenes/drape_wool.ron",
+            common::explicit_drape("wool"),
             vec!["integration.max_time_s=0.3", "seed=3"],
         ),
         (
             "scenes/drape_cotton.ron",
+            common::explicit_drape("cotton"),
             vec![
                 "integration.max_time_s=0.3",
                 "integration.integrator=Implicit",
                 "integration.dt_s=0.002",
             ],
         ),
+        (
+            "scenes/drape_wool.ron",
+            Vec::new(),
+            vec!["integration.max_time_s=0.3", "seed=3"],
+        ),
     ] {
-        let sets: Vec<String> = sets.into_iter().map(String::from).collect();
+        let sets: Vec<String> = base
+            .into_iter()
+            .chain(sets.into_iter().map(String::from))
+            .collect();
         let scene = Scene::load(common::crate_path(scene), &sets).unwrap();
         let a = simulate(&scene, &RunOptions::default());
         let b = simulate(&scene, &RunOptions::default());

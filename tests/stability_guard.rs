@@ -28,7 +28,10 @@ fn cotton_limit() -> (f64, &'static str) {
 }
 
 fn drape(sets: &[String]) -> Result<kes_cloth::run::RunOutcome, kes_cloth::scene::SceneError> {
-    let mut sets = sets.to_vec();
+    let mut sets: Vec<String> = common::explicit_drape("cotton")
+        .into_iter()
+        .chain(sets.iter().cloned())
+        .collect();
     sets.push(format!("effects.compression_modulus_n_per_m={SOFT_COMPRESSION}"));
     let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets)?;
     Ok(simulate(&scene, &RunOptions::default()))
@@ -57,7 +60,7 @@ fn the_guard_names_the_effect_and_the_step_it_needs() {
 
 /// With its default compression spring (100·π²·B/σ², `docs/model.md` §9) thick cotton at 1 cm is
 /// limited by that spring: B = 1.2 gf·cm²/cm = 1.177e-4 N·m gives 1,161 N/m, k = 4·1,161 N/m per
-/// node of 35 mg, ω = 1.152e4 1/s and 1.6/ω = 0.1389 ms. The shipped drape's 0.125 ms passes;
+/// node of 35 mg, ω = 1.152e4 1/s and 1.6/ω = 0.1389 ms. The seed's explicit drape at 0.125 ms passes;
 /// the 0.25 ms it used before the spring had a fixed modulus is refused.
 #[test]
 fn the_default_compression_spring_sets_thick_cottons_step_at_one_centimetre() {
@@ -70,9 +73,12 @@ fn the_default_compression_spring_sets_thick_cottons_step_at_one_centimetre() {
         limits[0].max_step
     );
     let path = common::crate_path("scenes/drape_cotton.ron");
-    let shipped = Scene::load(&path, &[]).unwrap();
-    assert!(shipped.spec.integration.dt_s <= limits[0].max_step);
-    let refused = Scene::load(&path, &["integration.dt_s=0.00025".to_string()]).unwrap_err();
+    let explicit = common::explicit_drape("cotton");
+    let seed_model = Scene::load(&path, &explicit).unwrap();
+    assert!(seed_model.spec.integration.dt_s <= limits[0].max_step);
+    let mut too_long = explicit.clone();
+    too_long.push("integration.dt_s=0.00025".to_string());
+    let refused = Scene::load(&path, &too_long).unwrap_err();
     assert!(refused.to_string().contains("compression"), "{refused}");
 }
 

@@ -15,14 +15,16 @@ fn step_plan(steps: &str, placements: usize) -> StudyPlan {
     }
 }
 
-/// `drape_wool` at 1 cm and 0.25 ms, a coarse setting these studies are sized for, and a short
+/// `drape_wool`, explicit, at 1 cm and 0.25 ms, a coarse setting these studies are sized for, and a short
 /// run of `max_time_s` seconds.
 fn wool_at_1cm(max_time_s: f64) -> Vec<String> {
-    vec![
+    let mut sets = common::explicit_drape("wool");
+    sets.extend([
         "cloth.spacing_m=0.01".to_string(),
         "integration.dt_s=0.00025".to_string(),
         format!("integration.max_time_s={max_time_s}"),
-    ]
+    ]);
+    sets
 }
 
 /// Runs `plan` on `drape_wool` at 1 cm for `max_time_s` seconds, on two threads.

@@ -4,13 +4,15 @@
 //! Each tester is one of the shipped scene files (compiled into the binary) with the fabric,
 //! the specimen and the numerical settings replaced:
 //!
-//! - spacing, on the drapemeters: the coarsest of 10, 7.5, 5, 3.75 and 2.5 mm that is at most
-//!   half the fabric's shorter bending length c = (B/W)^(1/3) (thick cotton, c = 2.6–3.3 cm:
-//!   10 mm; thin wool, c = 1.5–1.6 cm: 7.5 mm, as the shipped scenes); the tablecloth, whose
-//!   folds span several centimetres, keeps its scene's 1 cm;
-//! - step: the largest of the round steps 1, 0.8, 0.5, 0.4, 0.25, 0.2, 0.125 and 0.1 ms (and
-//!   the same tenfold smaller) within the stability guard's limit for that fabric and spacing
-//!   (`docs/model.md` §10).
+//! - spacing, on the drapemeters: the coarsest of 3.75, 2.5, 1.875 and 1.25 mm that is at most
+//!   a quarter of the fabric's shorter bending length c = (B/W)^(1/3) (thick cotton, c = 2.6–3.3
+//!   cm, and thin wool, c = 1.5–1.6 cm: 3.75 mm, as the shipped scenes, where both drapes have
+//!   stopped moving with the lattice, `docs/accuracy.md` §4); the tablecloth, whose folds span
+//!   several centimetres, keeps its scene's 1 cm;
+//! - step: an implicit template's own (the drapemeters: BDF2 at 1/240 s, whatever the spacing);
+//!   for an explicit one (the tablecloth) the largest of the round steps 1, 0.8, 0.5, 0.4,
+//!   0.25, 0.2, 0.125 and 0.1 ms (and the same tenfold smaller) within the stability guard's
+//!   limit for that fabric and spacing (`docs/model.md` §10).
 
 use std::path::{Path, PathBuf};
 
@@ -33,8 +35,11 @@ pub enum Tester {
     Tablecloth,
 }
 
-/// Spacings (m) a tester may use, coarsest first.
-const SPACINGS: [f64; 5] = [0.01, 0.0075, 0.005, 0.00375, 0.0025];
+/// Spacings (m) a drapemeter may use, coarsest first.
+const SPACINGS: [f64; 4] = [0.00375, 0.0025, 0.001875, 0.00125];
+
+/// The largest spacing a drapemeter allows, as a fraction of the fabric's shorter bending length.
+const SPACING_PER_BENDING_LENGTH: f64 = 0.25;
 
 /// Round steps (s) of one decade, largest first.
 const ROUND_STEPS: [f64; 8] = [1e-3, 8e-4, 5e-4, 4e-4, 2.5e-4, 2e-4, 1.25e-4, 1e-4];
@@ -93,19 +98,24 @@ impl Tester {
     }
 }
 
-/// The spacing (m) and explicit step (s) `tester` uses for `fabric` (module docs), given the
-/// stability guard's step limit (s) at a spacing (m).
-pub fn tester_settings(tester: Tester, fabric: &Fabric, step_limit: impl Fn(f64) -> f64) -> (f64, f64) {
+/// The spacing (m) `tester` uses for `fabric` (module docs).
+pub fn tester_spacing(tester: Tester, fabric: &Fabric) -> f64 {
     let c = fabric
         .bending_length(Thread::Warp)
         .min(fabric.bending_length(Thread::Weft));
-    let spacing = tester.fixed_spacing().unwrap_or_else(|| {
+    tester.fixed_spacing().unwrap_or_else(|| {
         SPACINGS
             .iter()
             .copied()
-            .find(|s| *s <= c / 2.0 * (1.0 + 1e-9))
+            .find(|s| *s <= c * SPACING_PER_BENDING_LENGTH * (1.0 + 1e-9))
             .unwrap_or(SPACINGS[SPACINGS.len() - 1])
-    });
+    })
+}
+
+/// The spacing (m) and explicit step (s) `tester` uses for `fabric` (module docs), given the
+/// stability guard's step limit (s) at a spacing (m).
+pub fn tester_settings(tester: Tester, fabric: &Fabric, step_limit: impl Fn(f64) -> f64) -> (f64, f64) {
+    let spacing = tester_spacing(tester, fabric);
     let limit = step_limit(spacing);
     let step = (0..6)
         .flat_map(|decade| ROUND_STEPS.iter().map(move |s| s * 10f64.powi(-decade)))
@@ -133,15 +143,22 @@ pub fn tester_scene(tester: Tester, fabric_file: &Path, overrides: &[String]) ->
     let mut probe = set.clone();
     probe.push("integration.dt_s=1e-7".into());
     let scene = Scene::from_text(text, origin.clone(), &probe)?;
-    let (spacing, step) = tester_settings(tester, &scene.fabric, |spacing| {
-        let mut spec = scene.spec.clone();
-        spec.cloth.spacing_m = spacing;
-        super::step_limits(&spec, &scene.fabric)
-            .first()
-            .map_or(f64::INFINITY, |l| l.max_step)
-    });
-    set.push(format!("cloth.spacing_m={spacing}"));
-    set.push(format!("integration.dt_s={step}"));
+    if scene.spec.integration.integrator == super::IntegratorSpec::Explicit {
+        let (spacing, step) = tester_settings(tester, &scene.fabric, |spacing| {
+            let mut spec = scene.spec.clone();
+            spec.cloth.spacing_m = spacing;
+            super::step_limits(&spec, &scene.fabric)
+                .first()
+                .map_or(f64::INFINITY, |l| l.max_step)
+        });
+        set.push(format!("cloth.spacing_m={spacing}"));
+        set.push(format!("integration.dt_s={step}"));
+    } else {
+        set.push(format!(
+            "cloth.spacing_m={}",
+            tester_spacing(tester, &scene.fabric)
+        ));
+    }
     set.extend(overrides.iter().cloned());
     Scene::from_text(text, origin, &set)
 }

@@ -72,6 +72,27 @@ pub fn rejection_message<T, E: std::fmt::Display>(
     }
 }
 
+/// `--set` overrides that turn the shipped drapemeter scene of `fabric` (`"wool"` or
+/// `"cotton"`) into the seed's explicit model, as tests of the explicit path need it: stretch
+/// held by Rapier's rope joints with the link compression spring, every node a whole cell, and
+/// the coarse lattice and step the explicit scenes use (thin wool 7.5 mm at 0.2 ms, thick cotton
+/// 1 cm at 0.125 ms, both within the stability guard). Later overrides win.
+pub fn explicit_drape(fabric: &str) -> Vec<String> {
+    let (spacing, dt) = match fabric {
+        "wool" => ("0.0075", "0.0002"),
+        "cotton" => ("0.01", "0.000125"),
+        other => panic!("no explicit drape for {other}"),
+    };
+    [
+        "integration.integrator=Explicit".to_string(),
+        "effects.stretch=Constraint".to_string(),
+        "cloth.node_mass=Uniform".to_string(),
+        format!("cloth.spacing_m={spacing}"),
+        format!("integration.dt_s={dt}"),
+    ]
+    .to_vec()
+}
+
 /// An `nu × nv` rectangle whose springs are not all whole: the outline's bending widths shared
 /// (half a spacing along the edges) and the first column held as by a clamp (the springs on
 /// the clamp's edge half a spacing long), so that tests of forces and Hessians cover every patch.
