@@ -41,7 +41,10 @@ fn a_drape_is_measured_only_where_declared() {
 fn a_rectangular_tablecloth_hangs_at_its_own_corners() {
     let out = one_step(
         "scenes/tablecloth_cotton.ron",
-        &["cloth.shape=Rectangle(warp_m: 0.40, weft_m: 0.24)"],
+        &[
+            "cloth.shape=Rectangle(warp_m: 0.40, weft_m: 0.24)",
+            "cloth.spacing_m=0.01",
+        ],
     );
     assert_eq!(
         out.metrics.particles,

@@ -218,9 +218,8 @@ enum Command {
     /// spacing is chosen from the fabric as the shipped scenes' is: on the drapemeters (BDF2 at
     /// 1/240 s) the coarsest of 3.75, 2.5, 1.875, 1.25 mm within a quarter of the fabric's
     /// shorter bending length, where thin wool's and thick cotton's drapes have converged; the
-    /// tablecloth (explicit) keeps 1 cm with the largest round step (1, 0.8, 0.5, 0.4, 0.25,
-    /// 0.2, 0.125, 0.1 ms, ...) the stability guard allows. Writes what `run` writes, into DIR
-    /// (default out/<tester>-<fabric file name>/).
+    /// tablecloth keeps its 5 mm. Writes what `run` writes, into DIR (default
+    /// out/<tester>-<fabric file name>/).
     ///
     /// Example: kes-cloth drape assets/fabrics/thin_wool.ron --tester cusick-30 --repeat 3
     Drape {

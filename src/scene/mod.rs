@@ -19,7 +19,7 @@ pub use describe::describe;
 pub use scene_error::SceneError;
 pub use scene_file::*;
 pub use scene_validation::MAX_NODES;
-pub use testers::{Tester, tester_scene, tester_settings, tester_spacing};
+pub use testers::{Tester, tester_scene, tester_spacing};
 
 use crate::material::Fabric;
 

@@ -8,11 +8,9 @@
 //!   a quarter of the fabric's shorter bending length c = (B/W)^(1/3) (thick cotton, c = 2.6–3.3
 //!   cm, and thin wool, c = 1.5–1.6 cm: 3.75 mm, as the shipped scenes, where both drapes have
 //!   stopped moving with the lattice, `docs/accuracy.md` §4); the tablecloth, whose folds span
-//!   several centimetres, keeps its scene's 1 cm;
-//! - step: an implicit template's own (the drapemeters: BDF2 at 1/240 s, whatever the spacing);
-//!   for an explicit one (the tablecloth) the largest of the round steps 1, 0.8, 0.5, 0.4,
-//!   0.25, 0.2, 0.125 and 0.1 ms (and the same tenfold smaller) within the stability guard's
-//!   limit for that fabric and spacing (`docs/model.md` §10).
+//!   several centimetres, keeps its scene's 5 mm;
+//! - step and integration: the template's (BDF2 at 1/240 s, the KES tensile law), which no
+//!   stability limit ties to the spacing.
 
 use std::path::{Path, PathBuf};
 
@@ -40,9 +38,6 @@ const SPACINGS: [f64; 4] = [0.00375, 0.0025, 0.001875, 0.00125];
 
 /// The largest spacing a drapemeter allows, as a fraction of the fabric's shorter bending length.
 const SPACING_PER_BENDING_LENGTH: f64 = 0.25;
-
-/// Round steps (s) of one decade, largest first.
-const ROUND_STEPS: [f64; 8] = [1e-3, 8e-4, 5e-4, 4e-4, 2.5e-4, 2e-4, 1.25e-4, 1e-4];
 
 impl Tester {
     /// Every tester, in the order `--help` lists them.
@@ -85,7 +80,7 @@ impl Tester {
 
     /// The spacing (m) the tester keeps whatever the fabric; `None`: chosen from the fabric.
     fn fixed_spacing(self) -> Option<f64> {
-        (self == Tester::Tablecloth).then_some(0.01)
+        (self == Tester::Tablecloth).then_some(0.005)
     }
 
     /// The specimen, where it differs from the template's.
@@ -112,18 +107,6 @@ pub fn tester_spacing(tester: Tester, fabric: &Fabric) -> f64 {
     })
 }
 
-/// The spacing (m) and explicit step (s) `tester` uses for `fabric` (module docs), given the
-/// stability guard's step limit (s) at a spacing (m).
-pub fn tester_settings(tester: Tester, fabric: &Fabric, step_limit: impl Fn(f64) -> f64) -> (f64, f64) {
-    let spacing = tester_spacing(tester, fabric);
-    let limit = step_limit(spacing);
-    let step = (0..6)
-        .flat_map(|decade| ROUND_STEPS.iter().map(move |s| s * 10f64.powi(-decade)))
-        .find(|s| *s <= limit)
-        .unwrap_or(limit);
-    (spacing, step)
-}
-
 /// The scene of `fabric_file` on `tester`, named `<tester>-<fabric file stem>`, with the
 /// testers' settings for that fabric, then `overrides` (`--set`) applied.
 pub fn tester_scene(tester: Tester, fabric_file: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
@@ -139,26 +122,12 @@ pub fn tester_scene(tester: Tester, fabric_file: &Path, overrides: &[String]) ->
         format!("name={:?}", format!("{}-{stem}", tester.name())),
     ];
     set.extend(tester.specimen().map(str::to_string));
-    // First with a step every fabric takes, to read the fabric and the guard's limit.
-    let mut probe = set.clone();
-    probe.push("integration.dt_s=1e-7".into());
-    let scene = Scene::from_text(text, origin.clone(), &probe)?;
-    if scene.spec.integration.integrator == super::IntegratorSpec::Explicit {
-        let (spacing, step) = tester_settings(tester, &scene.fabric, |spacing| {
-            let mut spec = scene.spec.clone();
-            spec.cloth.spacing_m = spacing;
-            super::step_limits(&spec, &scene.fabric)
-                .first()
-                .map_or(f64::INFINITY, |l| l.max_step)
-        });
-        set.push(format!("cloth.spacing_m={spacing}"));
-        set.push(format!("integration.dt_s={step}"));
-    } else {
-        set.push(format!(
-            "cloth.spacing_m={}",
-            tester_spacing(tester, &scene.fabric)
-        ));
-    }
+    // First as the template is, to read the fabric.
+    let scene = Scene::from_text(text, origin.clone(), &set)?;
+    set.push(format!(
+        "cloth.spacing_m={}",
+        tester_spacing(tester, &scene.fabric)
+    ));
     set.extend(overrides.iter().cloned());
     Scene::from_text(text, origin, &set)
 }
