@@ -67,6 +67,23 @@ pub struct ErrorEstimate {
 }
 
 impl ErrorEstimate {
+    /// No estimate: the companion at `companion_spacing_m` (m), `ratio` times the run's spacing,
+    /// could not be run, for the reason `why`.
+    pub fn not_run(companion_spacing_m: f64, ratio: f64, why: String) -> Self {
+        Self {
+            companion_spacing_m,
+            ratio,
+            assumed_order: ASSUMED_ORDER,
+            companion_settled: false,
+            drape_coefficient: None,
+            companion_nodes: None,
+            hang_corners_m: None,
+            companion_skirt_folds: None,
+            cantilever_chord_deg: None,
+            companion_failure: Some(why),
+        }
+    }
+
     /// The estimate from the run's metrics and its companion's, at ratio `ratio`.
     pub fn from_runs(run: &Metrics, companion: &Metrics, ratio: f64) -> Self {
         let factor = 1.0 / (ratio.powf(ASSUMED_ORDER) - 1.0);

@@ -95,18 +95,11 @@ pub fn estimate_error(scene: &Scene, outcome: &mut RunOutcome, options: &RunOpti
     };
     let estimate = match companion_scene(scene) {
         Ok(companion) => ErrorEstimate::from_runs(m, &simulate(&companion, &options).metrics, ratio),
-        Err(e) => ErrorEstimate {
-            companion_spacing_m: scene.spec.cloth.spacing_m * ratio,
+        Err(e) => ErrorEstimate::not_run(
+            scene.spec.cloth.spacing_m * ratio,
             ratio,
-            assumed_order: ASSUMED_ORDER,
-            companion_settled: false,
-            drape_coefficient: None,
-            companion_nodes: None,
-            hang_corners_m: None,
-            companion_skirt_folds: None,
-            cantilever_chord_deg: None,
-            companion_failure: Some(format!("no companion run: {e}")),
-        },
+            format!("no companion run: {e}"),
+        ),
     };
     outcome.metrics.numerical_error = Some(estimate);
 }
