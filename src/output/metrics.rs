@@ -96,8 +96,8 @@ pub struct Metrics {
     pub hang_mid_sides_m: Option<f64>,
     /// Tablecloths: folds of the skirt around the table (see `measure/drape.rs`).
     pub skirt_folds: Option<u32>,
-    /// Cantilever test: the chord from the clamp's edge to the free end, below the horizontal
-    /// (degrees).
+    /// Cantilever test: the chord from the clamp's edge to the free end, from the clamp's
+    /// direction (degrees; below the horizontal when gravity is along −y).
     #[serde(default)]
     pub cantilever_chord_deg: Option<f64>,
     /// Cantilever test: the heavy elastica's exact chord angle for the fabric's warp bending

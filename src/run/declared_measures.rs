@@ -20,7 +20,7 @@ pub struct TableHang {
 /// A cantilever strip's bend.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CantileverBend {
-    /// The chord from the clamp's edge to the free end, below the horizontal (rad).
+    /// The chord from the clamp's edge to the free end, from the clamp's direction (rad).
     pub chord: f64,
     /// The heavy elastica's exact chord for the same fabric, weight and overhang (rad).
     pub exact: f64,
@@ -90,12 +90,24 @@ fn measure_cantilever(scene: &Scene, positions: &[DVec3]) -> Option<CantileverBe
     let (root, free) = (mean(&held, positions), mean(&tip, positions));
     let edge = start + scene.spec.cloth.clamp_m;
     let reach = free.dot(warp) - edge;
-    let chord = (root.y - free.y).atan2(reach);
     let overhang = end - edge;
-    let gravity = DVec3::from_array(scene.spec.world.gravity_m_per_s2).length();
+    // The clamp's angle above the horizontal, from gravity's direction in the strip's plane
+    // (warp and +y): 0 for gravity along −y, 90° for gravity back along the strip (an upright
+    // column). Gravity across the strip (along the weft) has no planar elastica.
+    let g = DVec3::from_array(scene.spec.world.gravity_m_per_s2);
+    let gravity = g.length();
+    let weft = DVec3::Y.cross(warp);
+    if gravity == 0.0 || g.dot(weft).abs() > 1e-9 * gravity {
+        return None;
+    }
+    let clamp_angle = (-g.dot(warp)).atan2(-g.y);
+    let drop = root.y - free.y;
+    // Upright, the column bends to either side alike.
+    let drop = if g.y == 0.0 { drop.abs() } else { drop };
+    let chord = drop.atan2(reach);
     let rigidity = scene.fabric.bending(crate::material::Thread::Warp).rigidity;
     let c = (rigidity / (scene.fabric.areal_density * gravity)).cbrt();
-    let exact = crate::study::heavy_elastica::heavy_elastica(overhang / c)?.chord_angle();
+    let exact = crate::study::heavy_elastica::heavy_elastica(overhang / c, clamp_angle)?.chord_angle();
     Some(CantileverBend { chord, exact })
 }
 

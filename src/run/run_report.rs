@@ -240,7 +240,7 @@ pub fn summary(outcome: &RunOutcome) -> String {
     if let (Some(chord), Some(exact)) = (m.cantilever_chord_deg, m.cantilever_exact_deg) {
         let error = plus_minus(estimate, |e| e.cantilever_chord_deg, 1.0, 2);
         s += &format!(
-            "  cantilever chord {chord:.2}°{error} below the horizontal; the heavy elastica's {exact:.2}° ({:+.2}°)\n",
+            "  cantilever chord {chord:.2}°{error} from the clamp's direction; the heavy elastica's {exact:.2}° ({:+.2}°)\n",
             chord - exact
         );
     }

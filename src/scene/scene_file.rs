@@ -156,9 +156,11 @@ pub enum MeasureSpec {
         table: String,
     },
     /// The cantilever bending test (BS 3356, ASTM D1388) on a strip whose root is held by
-    /// `cloth.clamp_m`: the angle of the chord from the clamp's edge to the free (+warp) end
-    /// below the horizontal, beside the heavy elastica's exact angle for the fabric's warp
-    /// bending rigidity and the same overhang.
+    /// `cloth.clamp_m`: the angle of the chord from the clamp's edge to the free (+warp) end,
+    /// from the clamp's direction (below the horizontal under the usual gravity along −y),
+    /// beside the heavy elastica's exact angle for the fabric's warp bending rigidity, the same
+    /// overhang and the clamp's angle to gravity (gravity turned back along the warp makes the
+    /// strip an upright heavy column, which bends to either side alike).
     Cantilever,
 }
 
