@@ -5,7 +5,9 @@
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
-use kes_cloth::embed::{BuildError, ClothBuilder, KesCloth, StepError, install, prepare_world, spawn_cloth};
+use kes_cloth::embed::{
+    BuildError, ClothBuilder, KesCloth, LOWEST_CLEARANCE, StepError, install, prepare_world, spawn_cloth,
+};
 use kes_cloth::implicit::Integrator;
 use kes_cloth::measure::Motion;
 use kes_cloth::scene::SettleSpec;
@@ -169,6 +171,39 @@ fn a_zero_spacing_is_refused_with_its_range() {
     );
 }
 
+/// Drapes `fabric` (`tablecloth`, then `adjust`) over the table's edge for 3 s at 1/`hz` s in a
+/// world prepared by `prepare_world`. Returns when it came to rest for good (s; none if it was
+/// still moving at the end), its fastest node speed after 2.5 s (m/s), and the cloth.
+fn drape_over_edge(
+    fabric: &str,
+    hz: f64,
+    adjust: impl Fn(ClothBuilder) -> ClothBuilder,
+) -> (Option<f64>, f64, KesCloth) {
+    let mut world = table_world(1.0 / hz);
+    prepare_world(&mut world.integration_parameters);
+    let mut cloth = adjust(tablecloth(fabric)).build(&mut world).expect("builds");
+    let steps = (3.0 * hz) as usize;
+    let mut worst_late = 0.0_f64;
+    let mut rest_from = None;
+    for k in 0..steps {
+        cloth
+            .step(&mut world)
+            .unwrap_or_else(|e| panic!("{fabric} at 1/{hz} s: {e}"));
+        let m = cloth.motion();
+        let speed = m.max_speed.max(m.max_step_speed);
+        let t = (k + 1) as f64 / hz;
+        if t > 2.5 {
+            worst_late = worst_late.max(speed);
+        }
+        if speed > 1e-3 {
+            rest_from = None;
+        } else if rest_from.is_none() {
+            rest_from = Some(t);
+        }
+    }
+    (rest_from, worst_late, cloth)
+}
+
 /// Every shipped fabric, built with the defaults into a world prepared by `prepare_world`,
 /// draped over the table's edge, comes to rest at Rapier's 1/60 s and at 1/240 s: from 2.5 s of
 /// simulated time on, no node moves faster than 1 mm/s over the next 0.5 s (stored velocity and
@@ -181,28 +216,7 @@ fn every_shipped_fabric_draped_over_an_edge_comes_to_rest_at_the_hosts_step() {
     for path in common::shipped_fabric_paths() {
         let stem = path.file_stem().and_then(|s| s.to_str()).expect("a file stem");
         for hz in [60.0, 240.0] {
-            let mut world = table_world(1.0 / hz);
-            prepare_world(&mut world.integration_parameters);
-            let mut cloth = tablecloth(stem).build(&mut world).expect("builds");
-            let steps = (3.0 * hz) as usize;
-            let mut worst_late = 0.0_f64;
-            let mut rest_from = None;
-            for k in 0..steps {
-                cloth
-                    .step(&mut world)
-                    .unwrap_or_else(|e| panic!("{stem} at 1/{hz} s: {e}"));
-                let m = cloth.motion();
-                let speed = m.max_speed.max(m.max_step_speed);
-                let t = (k + 1) as f64 / hz;
-                if t > 2.5 {
-                    worst_late = worst_late.max(speed);
-                }
-                if speed > 1e-3 {
-                    rest_from = None;
-                } else if rest_from.is_none() {
-                    rest_from = Some(t);
-                }
-            }
+            let (rest_from, worst_late, _) = drape_over_edge(stem, hz, |b| b);
             report.push(format!(
                 "{stem} 1/{hz} s: at rest from {rest_from:?} s, fastest after 2.5 s {:.2} mm/s",
                 worst_late * 1e3
@@ -211,6 +225,51 @@ fn every_shipped_fabric_draped_over_an_edge_comes_to_rest_at_the_hosts_step() {
                 worst_late <= 1e-3,
                 "{stem} at 1/{hz} s moves at {:.2} mm/s after 2.5 s",
                 worst_late * 1e3
+            );
+        }
+    }
+    println!("{}", report.join("\n"));
+}
+
+/// With `rest_on_lower_face(true)` the cloth lies on the host's table with its lower face: the
+/// lowest node centre over the table's top (more than a spacing inside its edges) rests within
+/// 0.05 mm of half the fabric's thickness above it, at 1/60 s and 1/240 s, where by default the
+/// centres rest a node radius (5 mm) above; the table's shape is the host's own. How soon the
+/// skirt comes to rest is measured, not claimed: the node centres meet the table's edge nearly
+/// as a sharp edge, and some fabrics still move at 1–11 mm/s after 2.5 s (`--nocapture` prints
+/// it; `docs/rapier.md`).
+#[test]
+fn resting_on_its_lower_face_the_cloth_lies_half_its_thickness_above_the_table() {
+    let mut report = Vec::new();
+    for path in common::shipped_fabric_paths() {
+        let stem = path.file_stem().and_then(|s| s.to_str()).expect("a file stem");
+        let clearance = (0.5 * common::shipped_fabric(stem).thickness).max(LOWEST_CLEARANCE);
+        for hz in [60.0, 240.0] {
+            let (rest_from, worst_late, cloth) = drape_over_edge(stem, hz, |b| b.rest_on_lower_face(true));
+            let on_top: Vec<f64> = cloth
+                .positions()
+                .iter()
+                .filter(|p| p.x.abs() < 0.09 && p.z.abs() < 0.09)
+                .map(|p| p.y)
+                .collect();
+            let lowest = on_top.iter().copied().fold(f64::INFINITY, f64::min);
+            report.push(format!(
+                "{stem} 1/{hz} s: {} nodes over the table, lowest {:.3} mm (half the thickness {:.3} mm), at rest from {rest_from:?} s, fastest after 2.5 s {:.2} mm/s",
+                on_top.len(),
+                lowest * 1e3,
+                clearance * 1e3,
+                worst_late * 1e3
+            ));
+            assert!(
+                on_top.len() > 200,
+                "{stem}: {} nodes over the table",
+                on_top.len()
+            );
+            assert!(
+                (lowest - clearance).abs() < 5e-5,
+                "{stem} at 1/{hz} s: lowest node centre {:.3} mm above the table, not {:.3} mm",
+                lowest * 1e3,
+                clearance * 1e3
             );
         }
     }

@@ -3,7 +3,7 @@
 use glam::DVec3;
 use rapier3d::prelude::*;
 
-use super::{encode_normal, sheet_normals};
+use super::{encode_normal, encode_surface_depth, sheet_normals};
 use crate::forces::ClothTopology;
 use crate::implicit::Supports;
 
@@ -27,6 +27,11 @@ pub struct NodeOptions {
     pub self_collision: bool,
     /// Gravity acts on the nodes.
     pub gravity: bool,
+    /// How much deeper than Rapier measures a node's ball its contacts with fixed and
+    /// kinematic colliders are read (m, at most the radius; 0: as measured): the ball's centre
+    /// then rests this much closer to the surface. Only in effect where the world is stepped
+    /// with [`super::SheetContacts`].
+    pub surface_depth: f64,
 }
 
 /// The Rapier bodies of one cloth, in particle order.
@@ -41,6 +46,8 @@ pub struct ClothBodies {
     /// Nodes pinned to a kinematic body: (node, body, anchor in the body's frame, m). The
     /// implicit solve moves each with its pin ([`Self::read_pin_velocities`]).
     pub moving_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
+    /// [`NodeOptions::surface_depth`] (m).
+    pub surface_depth: f64,
 }
 
 impl ClothBodies {
@@ -58,6 +65,7 @@ impl ClothBodies {
             (false, false) => Group::NONE,
         };
         let groups = InteractionGroups::new(CLOTH_GROUP, filter, InteractionTestMode::And);
+        let surface_depth = options.surface_depth.clamp(0.0, options.radius);
         let handles: Vec<RigidBodyHandle> = positions
             .iter()
             .zip(&options.masses)
@@ -75,6 +83,11 @@ impl ClothBodies {
                     .friction(0.0)
                     .collision_groups(groups)
                     .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+                    .user_data(if surface_depth > 0.0 {
+                        encode_surface_depth(surface_depth as f32)
+                    } else {
+                        0
+                    })
                     .build();
                 world.insert_collider(ball, Some(handle));
                 handle
@@ -101,6 +114,7 @@ impl ClothBodies {
             joints,
             masses: options.masses.clone(),
             moving_pins: Vec::new(),
+            surface_depth,
         }
     }
 
@@ -159,6 +173,8 @@ impl ClothBodies {
     /// whether it pushed or not.
     pub fn read_supports(&self, world: &PhysicsWorld, supports: &mut Supports) {
         supports.clear(self.handles.len());
+        // Contacts are read as deep as `SheetContacts` makes Rapier read them.
+        let depth = self.surface_depth as f32;
         let Supports {
             pushed,
             touching,
@@ -199,13 +215,14 @@ impl ClothBodies {
                         let normal = manifold.data.normal.as_dvec3();
                         let towards_node = if node_first { -normal } else { normal };
                         for point in &manifold.points {
-                            if point.dist <= nearest {
-                                nearest = point.dist;
+                            let dist = point.dist + depth;
+                            if dist <= nearest {
+                                nearest = dist;
                                 *touch = towards_node;
                                 touching_friction = surface.friction() as f64;
                             }
-                            if point.data.impulse > 0.0 && point.dist <= deepest {
-                                deepest = point.dist;
+                            if point.data.impulse > 0.0 && dist <= deepest {
+                                deepest = dist;
                                 *n = towards_node;
                                 // Nodes have friction 0 and world colliders the Max rule, so
                                 // the surface's own coefficient is the pair's.

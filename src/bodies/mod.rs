@@ -14,6 +14,6 @@ mod world_settings;
 
 pub use cloth_bodies::{ClothBodies, NodeOptions, TOUCH_DISTANCE};
 pub use sheet_contacts::SheetContacts;
-pub(crate) use sheet_contacts::{encode_normal, sheet_normals};
+pub(crate) use sheet_contacts::{encode_normal, encode_surface_depth, sheet_normals};
 pub use world_colliders::{ThrownBody, WorldShape, add_world_collider};
 pub use world_settings::{ContactStiffness, configure_world};

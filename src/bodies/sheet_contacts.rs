@@ -12,6 +12,11 @@
 //! fixed and kinematic colliders are left alone: they are the
 //! supports the implicit solve reads.
 //!
+//! A node may also carry a surface depth (its collider's `user_data`, from
+//! [`crate::embed::ClothBuilder::mid_surface`]): its contacts with fixed and kinematic colliders
+//! are then read that much deeper than Rapier measures its ball, so that the cloth's lower face,
+//! not the ball around its mid-surface, rests on the host's own shapes.
+//!
 //! The surface normals travel in the node bodies' `user_data`, written by
 //! [`ClothBodies::write_sheet_normals`](super::ClothBodies::write_sheet_normals) before each
 //! step, so one [`SheetContacts`] serves every cloth in a world.
@@ -23,6 +28,9 @@ use crate::forces::ClothTopology;
 
 /// Marks a node body's `user_data` as holding a surface normal (the high 32 bits).
 const NORMAL_TAG: u128 = 0x4B45_5343;
+
+/// Marks a node collider's `user_data` as holding its surface depth (the high 32 bits).
+const DEPTH_TAG: u128 = 0x4B45_5344;
 
 /// Sine of the angle (about 11.5°) between the sheet and the line from a node to a body's
 /// centre below which the body meets the sheet edge-on and its contact keeps its own normal.
@@ -44,6 +52,17 @@ fn decode_normal(data: u128) -> Option<Vec3> {
     let part = |shift: u32| f32::from_bits((data >> shift) as u32);
     let n = Vec3::new(part(64), part(32), part(0));
     (n.length_squared() > 0.5).then_some(n)
+}
+
+/// A node collider's `user_data` carrying its surface depth `depth` (m): how much deeper than
+/// Rapier measures its ball the node's contacts with fixed and kinematic colliders are read.
+pub(crate) fn encode_surface_depth(depth: f32) -> u128 {
+    (DEPTH_TAG << 96) | depth.to_bits() as u128
+}
+
+/// The surface depth (m) in a node collider's `user_data`, if it carries one.
+fn surface_depth(data: u128) -> Option<f32> {
+    (data >> 96 == DEPTH_TAG).then(|| f32::from_bits(data as u32))
 }
 
 /// Whether `body` is a cloth node: its `user_data` carries a surface normal.
@@ -84,7 +103,25 @@ impl SheetContacts {
         let (b1, b2) = (body(context.rigid_body1), body(context.rigid_body2));
         let sheet1 = b1.and_then(|b| decode_normal(b.user_data));
         let sheet2 = b2.and_then(|b| decode_normal(b.user_data));
-        let dynamic = |b: Option<&RigidBody>| b.is_some_and(|b| b.is_dynamic());
+        // A node without a normal (folded flat) is no body landing on the sheet.
+        let dynamic = |b: Option<&RigidBody>| b.is_some_and(|b| b.is_dynamic() && !is_node(b));
+        // A node resting on a fixed or kinematic collider with a surface depth: its contact is
+        // read that much deeper, so that the sheet, not the node's ball, meets the surface.
+        let depth = |node: ColliderHandle, other: Option<&RigidBody>| {
+            let depth = context
+                .colliders
+                .get(node)
+                .and_then(|c| surface_depth(c.user_data));
+            depth.filter(|_| other.is_none_or(|b| !b.is_dynamic()))
+        };
+        if let Some(depth) = depth(context.collider1, b2).or_else(|| depth(context.collider2, b1)) {
+            if let Some(manifold) = context.rigid_mut() {
+                for contact in manifold.solver_contacts.iter_mut() {
+                    contact.dist += depth;
+                }
+            }
+            return;
+        }
         // The manifold normal points from collider 1 to collider 2.
         let (sheet, node_first, node_collider, other_collider) = match (sheet1, sheet2) {
             (Some(n), None) if dynamic(b2) => (n, true, context.collider1, context.collider2),
@@ -154,6 +191,15 @@ impl PhysicsHooks for SheetContacts {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A surface depth survives the trip through a collider's `user_data`, and other data reads
+    /// as none (a normal included).
+    #[test]
+    fn surface_depths_round_trip_through_user_data() {
+        assert_eq!(surface_depth(encode_surface_depth(0.004_75)), Some(0.004_75));
+        assert_eq!(surface_depth(0), None);
+        assert_eq!(surface_depth(encode_normal(Vec3::Y)), None);
+    }
 
     /// A normal survives the trip through `user_data` bit for bit, and data not written by us
     /// reads as no normal.

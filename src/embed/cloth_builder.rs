@@ -54,6 +54,12 @@ pub struct ClothParts {
     pub implicit: Option<ImplicitSolver>,
 }
 
+/// The least height (m) of a node's centre above a fixed collider it rests on with
+/// [`ClothBuilder::rest_on_lower_face`], whatever the fabric's thickness: a ball whose centre
+/// reaches the surface meets it along an ill-defined normal, and a flat cloth resting so on a
+/// plane at 1/60 s jitters at 3–17 mm/s where with 0.05 mm it is still.
+pub const LOWEST_CLEARANCE: f64 = 5e-5;
+
 /// Builds a KES cloth into a Rapier world. Defaults: a 0.3 m square, 1 cm spacing, centred at
 /// the origin, warp along +x, stretch as a constraint, bending and trellising on, link damping
 /// 150/s, no hysteresis, contact with the world on, no self-collision, gravity on, no pins, and
@@ -81,6 +87,8 @@ pub struct ClothBuilder {
     step_guard: bool,
     /// Whether [`Self::stretch`] was called.
     stretch_set: bool,
+    /// [`Self::rest_on_lower_face`].
+    lower_face: bool,
 }
 
 impl ClothBuilder {
@@ -114,6 +122,7 @@ impl ClothBuilder {
             integrator: None,
             step_guard: true,
             stretch_set: false,
+            lower_face: false,
         }
     }
 
@@ -166,6 +175,21 @@ impl ClothBuilder {
     /// above a surface).
     pub fn node_radius(mut self, radius: f64) -> Self {
         self.node_radius = Some(radius);
+        self
+    }
+
+    /// Whether a cloth from [`Self::build`] rests on the world's fixed and kinematic colliders
+    /// with its lower face, its mid-surface (the node centres) half the fabric's thickness
+    /// above them (at least [`LOWEST_CLEARANCE`]), instead of one node radius above (default
+    /// `false`). The host's shapes stay as they are: [`super::SheetContacts`] reads each node's
+    /// contact with them that much deeper than Rapier measures its ball, so the world must be
+    /// stepped with those hooks, as [`super::KesCloth::step`] does. Dynamic bodies still meet
+    /// the nodes' balls, which keep them from slipping between nodes. Not the default: over a
+    /// table's sharp edge at 1/60 s some fabrics take longer to come to rest
+    /// (`docs/rapier.md`). Cloths from [`Self::build_parts`] (the bevy_ecs way in) rest one node
+    /// radius above.
+    pub fn rest_on_lower_face(mut self, on: bool) -> Self {
+        self.lower_face = on;
         self
     }
 
@@ -398,6 +422,12 @@ impl ClothBuilder {
     /// world, when a setting is out of range, a pin names no node, or explicit forces were asked
     /// for at a step they cannot take.
     pub fn build_parts(self, world: &mut PhysicsWorld) -> Result<ClothParts, BuildError> {
+        self.checked_parts(world, false)
+    }
+
+    /// [`Self::build_parts`], resting on its lower face if `lower_face` and
+    /// [`Self::rest_on_lower_face`] both ask for it.
+    fn checked_parts(self, world: &mut PhysicsWorld, lower_face: bool) -> Result<ClothParts, BuildError> {
         let dt = world.integration_parameters.dt as f64;
         self.check(dt)?;
         let integrator = self.integrator_at(dt)?;
@@ -405,18 +435,20 @@ impl ClothBuilder {
         if builder.integrator.is_none() && !builder.stretch_set && integrator != Integrator::Explicit {
             builder.effects.stretch = StretchModel::Kes;
         }
-        Ok(builder.assemble(world, integrator))
+        let lower_face = lower_face && builder.lower_face;
+        Ok(builder.assemble(world, integrator, lower_face))
     }
 
     /// [`Self::build_parts`] for a scene, which has validated every setting (with the place in
     /// its file) and run its own stability guard: the integrator it set, no check.
     pub(crate) fn build_scene_parts(self, world: &mut PhysicsWorld) -> ClothParts {
         let integrator = self.integrator.unwrap_or(Integrator::Explicit);
-        self.assemble(world, integrator)
+        self.assemble(world, integrator, false)
     }
 
-    /// Adds the bodies, joints and pins, with `integrator`.
-    fn assemble(self, world: &mut PhysicsWorld, integrator: Integrator) -> ClothParts {
+    /// Adds the bodies, joints and pins, with `integrator`, resting on the lower face if
+    /// `lower_face` ([`Self::rest_on_lower_face`]).
+    fn assemble(self, world: &mut PhysicsWorld, integrator: Integrator, lower_face: bool) -> ClothParts {
         let (mut topology, mut positions) = self.grid();
         // Nodes pinned to a body that cannot move: held in place, as a clamp holds them.
         let held: Vec<usize> = self
@@ -438,13 +470,18 @@ impl ClothBuilder {
             }
         }
         let masses = topology.node_masses(self.fabric.areal_density, self.node_mass);
+        let radius = self.node_radius.unwrap_or(topology.spacing / 2.0);
         let options = NodeOptions {
             masses: masses.clone(),
-            radius: self.node_radius.unwrap_or(topology.spacing / 2.0),
+            radius,
             rope_links: self.effects.stretch == StretchModel::Constraint,
             contact: self.contact,
             self_collision: self.self_collision,
             gravity: self.gravity,
+            surface_depth: match lower_face {
+                true => radius - (0.5 * self.fabric.thickness).max(LOWEST_CLEARANCE),
+                false => 0.0,
+            },
         };
         let mut bodies = ClothBodies::spawn(world, &topology, &positions, &options);
         for pin in &self.pins {
@@ -481,8 +518,10 @@ impl ClothBuilder {
         }
     }
 
-    /// Builds a cloth to drive from a plain Rapier loop ([`Self::build_parts`]'s checks).
+    /// Builds a cloth to drive from a plain Rapier loop ([`Self::build_parts`]'s checks), resting
+    /// on its lower face if [`Self::rest_on_lower_face`] asked for it ([`super::KesCloth::step`]
+    /// steps the world with [`super::SheetContacts`]).
     pub fn build(self, world: &mut PhysicsWorld) -> Result<super::KesCloth, BuildError> {
-        Ok(super::KesCloth::from_parts(self.build_parts(world)?))
+        Ok(super::KesCloth::from_parts(self.checked_parts(world, true)?))
     }
 }
