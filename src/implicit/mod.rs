@@ -43,15 +43,17 @@ mod conjugate_gradient;
 mod implicit_solver;
 mod preconditioner;
 mod scheme;
+mod solver_settings;
 mod sparse_cholesky;
 mod supports;
 mod thread_lines;
 
 pub use coarse_grid::CoarseGrid;
 pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-pub use implicit_solver::{ImplicitSettings, ImplicitSolver, ImplicitStats};
+pub use implicit_solver::ImplicitSolver;
 pub use preconditioner::{Preconditioner, TWO_LEVEL_FROM_NODES};
 pub use scheme::{Bdf2History, Scheme};
+pub use solver_settings::{ImplicitSettings, ImplicitStats};
 pub use sparse_cholesky::SparseCholesky;
 pub use supports::Supports;
 pub use thread_lines::ThreadLines;

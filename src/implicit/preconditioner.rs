@@ -53,3 +53,15 @@ impl Preconditioner {
         }
     }
 }
+
+/// The preconditioner one pass of a solve applies: what [`Preconditioner`] chose, or block
+/// Jacobi where its factor could not be formed.
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Active {
+    /// Each node's 3×3 diagonal block.
+    Jacobi,
+    /// The sparse Cholesky factor.
+    Cholesky,
+    /// The thread lines (with the coarse correction for the two-level preconditioner).
+    Lines,
+}

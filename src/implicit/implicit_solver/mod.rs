@@ -1,4 +1,8 @@
-//! One backward-Euler velocity solve per step, on the matrix assembled for that step.
+//! One linearly implicit velocity solve per step (backward Euler or BDF2), on the matrix
+//! assembled for that step.
+
+mod saved_state;
+mod vectors;
 
 use std::sync::Arc;
 
@@ -6,8 +10,9 @@ use glam::{DMat3, DVec3};
 
 use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-use super::preconditioner::Preconditioner;
+use super::preconditioner::{Active, Preconditioner};
 use super::scheme::{Bdf2History, Scheme};
+use super::solver_settings::{ImplicitSettings, ImplicitStats};
 use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
 use super::thread_lines::ThreadLines;
@@ -15,85 +20,7 @@ use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
     outer,
 };
-
-/// Conjugate-gradient settings of the implicit solve.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ImplicitSettings {
-    /// Most operator products per step (default 200). A solve stopped early still returns a
-    /// velocity change that reduces the residual; [`ImplicitStats`] counts how often it happens.
-    pub max_iterations: usize,
-    /// Relative residual |b − A·Δv|_P/|b|_P at which a solve stops (dimensionless; default
-    /// 1e-3; the norm is the preconditioner's, [`CgReport::relative_residual`]).
-    pub tolerance: f64,
-    /// Mass-weighted RMS error of Δv (m/s) below which a solve stops whatever its relative
-    /// residual (default 3e-6; 0 for none). Near rest b nearly vanishes, and the relative rule
-    /// alone chases it: thick cotton at 5 mm and 1/240 s settled in 180 products a step, and
-    /// in 105 with this floor, for the same DC to 1e-4 and a largest node speed at rest of
-    /// 0.33 mm/s (0.16 mm/s without; 1.3 mm/s, above the settle limit, with a floor of 1e-5
-    /// m/s; `docs/model.md` §12).
-    pub velocity_tolerance: f64,
-    /// Whether the solve applies the supports' Coulomb friction (see
-    /// [`ImplicitSolver::apply_friction`]); `None` (default) for on when the cloth's
-    /// stretch is in the solve and off with Rapier's rope joints.
-    pub friction: Option<bool>,
-    /// How each conjugate-gradient iteration is preconditioned (default
-    /// [`Preconditioner::Auto`]).
-    pub preconditioner: Preconditioner,
-    /// How the solve steps in time (default [`Scheme::BackwardEuler`]).
-    pub scheme: Scheme,
-}
-
-impl Default for ImplicitSettings {
-    fn default() -> Self {
-        Self {
-            max_iterations: 200,
-            tolerance: 1e-3,
-            velocity_tolerance: 3e-6,
-            friction: None,
-            preconditioner: Preconditioner::Auto,
-            scheme: Scheme::BackwardEuler,
-        }
-    }
-}
-
-/// The preconditioner a pass uses.
-#[derive(Clone, Copy, PartialEq)]
-enum Active {
-    Jacobi,
-    Cholesky,
-    Lines,
-}
-
-/// Totals over a run, for `metrics.json`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ImplicitStats {
-    /// Solves done (one per step).
-    pub solves: u64,
-    /// Operator products over all solves.
-    pub iterations: u64,
-    /// Solves that stopped short of their tolerance (at `max_iterations`, or on a direction of
-    /// non-positive curvature).
-    pub unconverged: u64,
-    /// Steps solved twice because a support's static friction gave way (a step's release).
-    #[serde(default)]
-    pub repeated: u64,
-    /// Numeric Cholesky factorisations ([`Preconditioner::Cholesky`]; 0 with block Jacobi).
-    #[serde(default)]
-    pub factorisations: u64,
-    /// The last solve.
-    pub last: CgReport,
-    /// Wall time over all solves (s) spent assembling the system: every generator's stiffness
-    /// and damping blocks, the right-hand side and the particle rows.
-    #[serde(default)]
-    pub assembly_s: f64,
-    /// Wall time over all solves (s) spent setting up the preconditioner (block inverses,
-    /// thread-line and coarse factorisations, the sparse Cholesky factor).
-    #[serde(default)]
-    pub preconditioner_s: f64,
-    /// Wall time over all solves (s) in the conjugate gradients themselves.
-    #[serde(default)]
-    pub cg_s: f64,
-}
+use vectors::{filter, tangential, total_mass};
 
 /// The implicit solve of one cloth: settings, node mass, warm start and scratch buffers.
 #[derive(Clone, Debug)]
@@ -177,57 +104,6 @@ pub struct ImplicitSolver {
 }
 
 impl ImplicitSolver {
-    /// The last step's Δv (m/s), the next solve's warm start (for checkpoints).
-    pub fn warm_start(&self) -> &[DVec3] {
-        &self.dv
-    }
-
-    /// Restores a warm start saved by [`Self::warm_start`]; `false` (and nothing changed) if it
-    /// does not fit this cloth.
-    pub fn restore_warm_start(&mut self, dv: &[DVec3]) -> bool {
-        copy_if_same_length(&mut self.dv, dv)
-    }
-
-    /// Which nodes the last solve's surface pushed (for checkpoints).
-    pub fn pressed(&self) -> &[bool] {
-        &self.pressed
-    }
-
-    /// Restores what [`Self::pressed`] returned; `false` (and nothing changed) if it does not fit
-    /// this cloth.
-    pub fn restore_pressed(&mut self, pressed: &[bool]) -> bool {
-        copy_if_same_length(&mut self.pressed, pressed)
-    }
-
-    /// Each node's kinetic friction impulse from the last solve (N·s; for checkpoints).
-    pub fn sliding_impulses(&self) -> &[f64] {
-        &self.sliding_impulse
-    }
-
-    /// BDF2's history (for checkpoints; `None` before its first step or with backward Euler).
-    pub fn bdf2_history(&self) -> Option<&Bdf2History> {
-        self.bdf2.as_ref()
-    }
-
-    /// Restores what [`Self::bdf2_history`] returned; `false` (and nothing changed) if it does
-    /// not fit this cloth.
-    pub fn restore_bdf2_history(&mut self, history: Option<Bdf2History>) -> bool {
-        let n = self.masses.len();
-        let fits = history
-            .as_ref()
-            .is_none_or(|h| h.lag.len() == n && h.previous.len() == n);
-        if fits {
-            self.bdf2 = history;
-        }
-        fits
-    }
-
-    /// Restores what [`Self::sliding_impulses`] returned; `false` (and nothing changed) if it
-    /// does not fit this cloth.
-    pub fn restore_sliding_impulses(&mut self, impulses: &[f64]) -> bool {
-        copy_if_same_length(&mut self.sliding_impulse, impulses)
-    }
-
     /// A solver for a cloth of `topology` with nodes of `node_mass` (kg).
     pub fn new(topology: Arc<ClothTopology>, node_mass: f64, settings: ImplicitSettings) -> Self {
         let masses = vec![node_mass; topology.particle_count];
@@ -713,34 +589,6 @@ impl ImplicitSolver {
 /// friction cone is released and the solve repeated (warm-started from the last pass).
 const FRICTION_PASSES: usize = 2;
 
-/// `v` with its component along `n` (a support's unit normal, or zero) removed, or zero for a
-/// fixed node.
-fn filter(n: DVec3, fixed: bool, v: DVec3) -> DVec3 {
-    if fixed { DVec3::ZERO } else { tangential(n, v) }
-}
-
-/// `v` with its component along the unit normal `n` removed (`v` itself for `n` = 0).
-fn tangential(n: DVec3, v: DVec3) -> DVec3 {
-    v - n.dot(v) * n
-}
-
-/// Σm (kg), as N·m exactly when every node weighs the same.
-fn total_mass(masses: &[f64]) -> f64 {
-    match masses.first() {
-        Some(&m) if masses.iter().all(|&x| x == m) => m * masses.len() as f64,
-        _ => masses.iter().sum(),
-    }
-}
-
 /// Below this tangential speed (m/s), a sliding node's kinetic friction is a drag
 /// proportional to its speed (a regularized Coulomb law), so that the solve stays linear.
 const FRICTION_SPEED: f64 = 1e-4;
-
-/// Copies `from` into `to` if they have the same length (a checkpoint of this cloth).
-fn copy_if_same_length<T: Copy>(to: &mut [T], from: &[T]) -> bool {
-    let fits = to.len() == from.len();
-    if fits {
-        to.copy_from_slice(from);
-    }
-    fits
-}
