@@ -13,7 +13,7 @@
 //! supports the implicit solve reads.
 //!
 //! A node may also carry a surface depth (its collider's `user_data`, from
-//! [`crate::embed::ClothBuilder::mid_surface`]): its contacts with fixed and kinematic colliders
+//! [`crate::embed::ClothBuilder::rest_on_lower_face`]): its contacts with fixed and kinematic colliders
 //! are then read that much deeper than Rapier measures its ball, so that the cloth's lower face,
 //! not the ball around its mid-surface, rests on the host's own shapes.
 //!
