@@ -54,13 +54,15 @@
 //! - [`bodies`]: cloth nodes as Rapier bodies (the one place that knows how).
 //! - [`embed`]: the builder, the plain-Rapier cloth and the bevy_ecs installer.
 //! - [`measure`], [`output`], [`run`], [`repeat`]: measurements, files, running, repeats.
-//! - [`study`]: work–precision studies across settings.
+//! - [`study`]: work–precision and convergence studies across settings.
+//! - [`batch`]: a study as task files, run by any scheduler, and collected.
 //!
 //! All quantities are SI (N, m, kg, s, rad) unless a name or doc says otherwise.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod bodies;
 pub mod checkpoint;
 pub mod embed;

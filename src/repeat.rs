@@ -3,13 +3,14 @@
 //! Optionally each run also shifts the node lattice against the cloth's outline, so the spread
 //! includes where the grid happens to fall (`docs/accuracy.md`).
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use serde::Serialize;
 
+use std::path::Path;
+
+use crate::batch::{BatchError, Manifest, load_results, parallel_map, task_path};
+use crate::output::Metrics;
 use crate::run::{RunOptions, RunOutcome, simulate};
-use crate::scene::Scene;
+use crate::scene::{ClothShape, Scene, SceneError};
 
 /// The distribution of a drape result over repeats.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -69,36 +70,23 @@ pub fn simulate_all(
     threads: usize,
     on_done: impl Fn(usize, &RunOutcome) + Sync,
 ) -> Vec<RunOutcome> {
-    let n = scenes.len();
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<RunOutcome>>> = Mutex::new((0..n).map(|_| None).collect());
-    std::thread::scope(|s| {
-        for _ in 0..threads.clamp(1, n.max(1)) {
-            s.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= n {
-                        break;
-                    }
-                    let outcome = simulate(&scenes[i], &RunOptions::default());
-                    on_done(i, &outcome);
-                    if let Ok(mut r) = results.lock() {
-                        r[i] = Some(outcome);
-                    }
-                }
-            });
-        }
-    });
-    results
-        .into_inner()
-        .map(|r| r.into_iter().flatten().collect())
-        .unwrap_or_default()
+    parallel_map(scenes.len(), threads, |i| {
+        let outcome = simulate(&scenes[i], &RunOptions::default());
+        on_done(i, &outcome);
+        outcome
+    })
 }
 
 /// Summarises repeat outcomes.
 pub fn summarise(outcomes: &[RunOutcome]) -> RepeatSummary {
-    let nodes: Vec<Option<u32>> = outcomes.iter().map(|o| o.metrics.nodes).collect();
-    let dcs: Vec<Option<f64>> = outcomes.iter().map(|o| o.metrics.drape_coefficient).collect();
+    let metrics: Vec<&Metrics> = outcomes.iter().map(|o| &o.metrics).collect();
+    summarise_metrics(&metrics)
+}
+
+/// Summarises the metrics of repeat runs, in seed order.
+pub fn summarise_metrics(runs: &[&Metrics]) -> RepeatSummary {
+    let nodes: Vec<Option<u32>> = runs.iter().map(|m| m.nodes).collect();
+    let dcs: Vec<Option<f64>> = runs.iter().map(|m| m.drape_coefficient).collect();
     let mut counts = std::collections::BTreeMap::new();
     for n in nodes.iter().flatten() {
         *counts.entry(*n).or_insert(0usize) += 1;
@@ -120,13 +108,92 @@ pub fn summarise(outcomes: &[RunOutcome]) -> RepeatSummary {
         (Some(mean), Some(var.sqrt()))
     };
     RepeatSummary {
-        runs: outcomes.len(),
-        settled: outcomes.iter().filter(|o| o.metrics.settled).count(),
+        runs: runs.len(),
+        settled: runs.iter().filter(|m| m.settled).count(),
         modal_nodes,
         nodes,
         drape_coefficients: dcs,
         dc_mean,
         dc_std,
-        lattice_offsets_m: outcomes.iter().map(|o| o.metrics.lattice_offset_m).collect(),
+        lattice_offsets_m: runs.iter().map(|m| m.lattice_offset_m).collect(),
     }
+}
+
+/// How a batch of repeats combines: task K is run K (seed K, the K-th placement).
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct RepeatLayout {
+    /// Scene name.
+    pub scene: String,
+    /// Whether each run also shifts the node lattice ([`placement_offset`]).
+    pub placements: bool,
+}
+
+/// Repeats collected from a batch folder.
+#[derive(Clone, Debug)]
+pub struct Repeats {
+    /// Run 0's scene, as its task file has it (for the report's name and fabric).
+    pub scene: Scene,
+    /// Each finished run's seed and metrics, in seed order.
+    pub runs: Vec<(usize, Metrics)>,
+    /// Their summary.
+    pub summary: RepeatSummary,
+    /// Tasks (seeds) without a result yet.
+    pub missing: Vec<usize>,
+}
+
+/// Plans `n` repeats of `scene` (seeds 0..n−1, and lattice placements if `placements`) as a
+/// batch whose run K writes into `DIR/seed-K/`; each run is validated as a scene of its own (a
+/// shifted lattice must still meet the pins, and a rectangle refuses an offset).
+pub fn plan_repeats(
+    scene: &Scene,
+    n: usize,
+    placements: bool,
+) -> Result<(Manifest<RepeatLayout>, Vec<Scene>), SceneError> {
+    if n == 0 {
+        return Err(SceneError::invalid(
+            &scene.path,
+            "--repeat",
+            "0",
+            "needs at least 1 run",
+        ));
+    }
+    if placements && !matches!(scene.spec.cloth.shape, ClothShape::Circle { .. }) {
+        return Err(SceneError::invalid(
+            &scene.path,
+            "--placements",
+            "true",
+            "applies to circular cloths: a rectangle's lattice fills its outline",
+        ));
+    }
+    let scenes = repeat_scenes(scene, n, placements)
+        .into_iter()
+        .map(|run| Scene::from_spec(run.spec, run.path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let layout = RepeatLayout {
+        scene: scene.spec.name.clone(),
+        placements,
+    };
+    let mut manifest = Manifest::new(&scene.path, n, layout);
+    manifest.run_folder = "seed-".to_string();
+    Ok((manifest, scenes))
+}
+
+/// The repeats of the batch in `dir`, from whatever runs have finished.
+pub fn collect_repeats(dir: &Path, manifest: &Manifest<RepeatLayout>) -> Result<Repeats, BatchError> {
+    let (results, missing) = load_results(dir, manifest.tasks)?;
+    let task = task_path(dir, 0);
+    let text = std::fs::read_to_string(&task).map_err(|e| BatchError::io(&task, e))?;
+    let scene = Scene::from_text(&text, task, &[])?;
+    let runs: Vec<(usize, Metrics)> = results
+        .into_iter()
+        .flatten()
+        .map(|r| (r.task, r.metrics))
+        .collect();
+    let summary = summarise_metrics(&runs.iter().map(|(_, m)| m).collect::<Vec<_>>());
+    Ok(Repeats {
+        scene,
+        runs,
+        summary,
+        missing,
+    })
 }

@@ -20,7 +20,12 @@ fn converge(scene: &str, set: &[String]) -> Convergence {
         placements: 1,
     };
     let path = common::crate_path(scene);
-    run_convergence(&path, set, &plan, 2, |_, _| {}).unwrap()
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let tag = format!(
+        "converge-{}",
+        RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    );
+    run_convergence(&path, set, &plan, &common::fresh_dir(&tag), 2, |_, _| {}).unwrap()
 }
 
 /// Checks that `c`'s chord converges at second order to the heavy elastica's exact angle:

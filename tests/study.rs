@@ -27,10 +27,17 @@ fn wool_at_1cm(max_time_s: f64) -> Vec<String> {
     sets
 }
 
+/// Numbers the batch folders of this file's studies.
+static STUDIES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
 /// Runs `plan` on `drape_wool` at 1 cm for `max_time_s` seconds, on two threads.
 fn wool_study(plan: &StudyPlan, max_time_s: f64) -> kes_cloth::study::Study {
     let scene = common::crate_path("scenes/drape_wool.ron");
-    kes_cloth::study::run_study(&scene, &wool_at_1cm(max_time_s), plan, 2, |_, _| {}).unwrap()
+    let dir = common::fresh_dir(&format!(
+        "study-{}",
+        STUDIES.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    ));
+    kes_cloth::study::run_study(&scene, &wool_at_1cm(max_time_s), plan, &dir, 2, |_, _| {}).unwrap()
 }
 
 /// Writes `study` into a fresh temporary folder named after `tag` and returns its `study.md`
@@ -88,10 +95,18 @@ fn a_small_study_writes_its_table_and_diagram() {
     let scene = common::crate_path("scenes/drape_wool.ron");
     let plan = step_plan("0.00035,0.00025", 1);
     let base = wool_at_1cm(0.1);
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    let study = kes_cloth::study::run_study(
+        &scene,
+        &base,
+        &plan,
+        &common::fresh_dir("study-small"),
+        2,
+        |_, _| {},
+    )
+    .unwrap();
     assert_eq!(study.rows.len(), 2);
     assert!(!study.rows[0].is_default && study.rows[1].is_default);
-    assert!((study.reference.dt_s - 0.000125).abs() < 1e-12);
+    assert!((study.reference.as_ref().unwrap().dt_s - 0.000125).abs() < 1e-12);
     for row in &study.rows {
         let e = row.shape_error_m.expect("shape error measured");
         // After 0.1 s the cloth has only fallen onto the disk: the runs differ by far less than
@@ -115,7 +130,15 @@ fn a_tablecloth_study_reports_the_corner_hang_error() {
     let scene = common::crate_path("scenes/tablecloth_wool.ron");
     let plan = step_plan("0.00035,0.00025", 1);
     let base = vec!["integration.max_time_s=0.15".to_string()];
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, _| {}).unwrap();
+    let study = kes_cloth::study::run_study(
+        &scene,
+        &base,
+        &plan,
+        &common::fresh_dir("study-table"),
+        2,
+        |_, _| {},
+    )
+    .unwrap();
     for row in &study.rows {
         assert!(row.dc_error.is_none());
         let e = row.hang_error_m.expect("hang error measured");
@@ -144,9 +167,14 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
     let base = wool_at_1cm(0.05);
     let total = std::sync::atomic::AtomicUsize::new(0);
     let scene = common::crate_path("scenes/drape_wool.ron");
-    let study = kes_cloth::study::run_study(&scene, &base, &plan, 2, |_, t| {
-        total.store(t, std::sync::atomic::Ordering::Relaxed)
-    })
+    let study = kes_cloth::study::run_study(
+        &scene,
+        &base,
+        &plan,
+        &common::fresh_dir("study-placed"),
+        2,
+        |_, t| total.store(t, std::sync::atomic::Ordering::Relaxed),
+    )
     .unwrap();
     assert_eq!(
         total.into_inner(),
@@ -159,7 +187,14 @@ fn a_study_over_placements_runs_each_point_n_times_and_reports_the_spread() {
     assert!(md.contains("means over 3 runs") && md.contains(" ± "), "{md}");
 
     let table = common::crate_path("scenes/tablecloth_wool.ron");
-    let Err(err) = kes_cloth::study::run_study(&table, &base, &plan, 2, |_, _| {}) else {
+    let Err(err) = kes_cloth::study::run_study(
+        &table,
+        &base,
+        &plan,
+        &common::fresh_dir("study-rectangle"),
+        2,
+        |_, _| {},
+    ) else {
         panic!("a rectangle cannot be placed");
     };
     assert!(err.to_string().contains("circular cloths"), "{err}");
@@ -174,7 +209,7 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
     assert_eq!(study.rows.len(), 1);
     assert_eq!(study.rows[0].setting[0].1, "0.00025");
     assert_eq!(study.refused.len(), 1);
-    let Refusal::StepTooLong { effect, max_step_s } = study.refused[0].why else {
+    let Refusal::StepTooLong { effect, max_step_s } = study.refused[0].why.clone() else {
         panic!("{:?}", study.refused[0]);
     };
     assert_eq!(effect, "compression");
@@ -186,7 +221,14 @@ fn a_study_skips_and_reports_steps_the_guard_refuses() {
     );
     // Nothing left to run is an error that lists what was refused, not an empty study.
     let (scene, base) = (common::crate_path("scenes/drape_wool.ron"), wool_at_1cm(0.05));
-    let Err(err) = kes_cloth::study::run_study(&scene, &base, &step_plan("0.0005", 1), 2, |_, _| {}) else {
+    let Err(err) = kes_cloth::study::run_study(
+        &scene,
+        &base,
+        &step_plan("0.0005", 1),
+        &common::fresh_dir("study-refused"),
+        2,
+        |_, _| {},
+    ) else {
         panic!("a study with every point refused must fail");
     };
     assert!(err.to_string().contains("every grid point is refused"), "{err}");
@@ -238,7 +280,7 @@ fn a_failed_reference_is_flagged_and_not_compared_with() {
     };
     let study = wool_study(&plan, 0.1);
     assert!(
-        study.reference.failure.is_some(),
+        study.reference.as_ref().unwrap().failure.is_some(),
         "the reference was meant to diverge"
     );
     let row = &study.rows[0];

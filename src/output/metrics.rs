@@ -3,12 +3,12 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 
 use super::OutputError;
 
 /// Calls and time of one effect.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EffectCost {
     /// Number of times its system ran.
     pub calls: u64,
@@ -17,7 +17,7 @@ pub struct EffectCost {
 }
 
 /// Why a run stopped early.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FailureReport {
     /// Step at which the failure was detected.
     pub step: u64,
@@ -32,7 +32,7 @@ pub struct FailureReport {
 }
 
 /// Everything `metrics.json` holds.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// Scene name.
     pub scene: String,
@@ -50,34 +50,43 @@ pub struct Metrics {
     /// Steps run.
     pub steps: u64,
     /// Simulated time (s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub sim_time_s: f64,
     /// Wall-clock time of the simulation loop (s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub wall_time_s: f64,
     /// Whether the settle criterion was met before the time limit.
     pub settled: bool,
     /// Simulated time at which the cloth came to rest (s), if it did.
     pub settle_time_s: Option<f64>,
     /// Largest |link length/σ − 1| at the end (dimensionless).
+    #[serde(deserialize_with = "null_as_nan")]
     pub max_strain: f64,
     /// Largest link strain at any step (dimensionless).
+    #[serde(deserialize_with = "null_as_nan")]
     pub peak_strain: f64,
     /// Height of the lowest node centre at the end (m).
+    #[serde(deserialize_with = "null_as_nan")]
     pub min_height_m: f64,
     /// Deepest node centre inside a collider at the end (m); 0 when none is inside.
+    #[serde(deserialize_with = "null_as_nan")]
     pub max_penetration_m: f64,
     /// Deepest node centre inside a collider at the end of any step (m).
+    #[serde(deserialize_with = "null_as_nan")]
     pub peak_penetration_m: f64,
     /// Speed of the fastest node at the end, as Rapier stores it (m/s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub max_speed_m_per_s: f64,
     /// Largest distance a node moved over the last step, divided by the step (m/s). Unlike
     /// `max_speed_m_per_s`, not raised by the velocity Rapier's contact solve leaves on a node
     /// resting on a surface.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "null_as_nan")]
     pub max_step_speed_m_per_s: f64,
     /// Largest node travel over the last settle window divided by its length (m/s): the
     /// quantity the settle criterion tests.
     pub window_speed_m_per_s: Option<f64>,
     /// Kinetic energy at the end (J).
+    #[serde(deserialize_with = "null_as_nan")]
     pub kinetic_energy_j: f64,
     /// Drape coefficient (dimensionless), for scenes with a drapemeter disk; provisional when
     /// `settled` is false.
@@ -144,4 +153,10 @@ impl Metrics {
         let text = serde_json::to_string_pretty(self).map_err(|e| OutputError::new(&path, e))?;
         std::fs::write(&path, text + "\n").map_err(|e| OutputError::new(&path, e))
     }
+}
+
+/// Reads a number `Metrics::write` may have written as null (a non-finite value of a failed
+/// run) back as NaN.
+fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }

@@ -33,7 +33,7 @@ pub fn companion_scene(scene: &Scene) -> Result<Scene, SceneError> {
 }
 
 /// One measured quantity's estimate.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct Estimated {
     /// The companion run's value (same unit as the quantity).
     pub companion: f64,
@@ -42,7 +42,7 @@ pub struct Estimated {
 }
 
 /// What the companion run gave, and the errors estimated from it. Units are in the keys.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct ErrorEstimate {
     /// The companion's spacing (m).
     pub companion_spacing_m: f64,

@@ -321,11 +321,11 @@ fn scene_fabric_sheet(scene: &Scene) -> Option<String> {
 }
 
 /// Writes `dir/report.html` for `--repeat`: the modal node count and DC's mean and spread, one
-/// row per seed, `repeat.png` (DC by seed), the first seed's pictures and 3D view (from
-/// `seed-0/`), and the fabric.
+/// row per seed (`runs`: each finished run's seed and metrics), `repeat.png` (DC by seed), the
+/// first seed's pictures and 3D view (from `seed-0/`), and the fabric.
 pub fn write_repeat_report(
     scene: &Scene,
-    outcomes: &[RunOutcome],
+    runs: &[(usize, crate::output::Metrics)],
     summary: &crate::repeat::RepeatSummary,
     dir: &Path,
 ) -> Result<(), OutputError> {
@@ -344,11 +344,9 @@ pub fn write_repeat_report(
             summary.modal_nodes.map_or("-".into(), |n| n.to_string()),
         ),
     ];
-    let rows = outcomes
+    let rows = runs
         .iter()
-        .enumerate()
-        .map(|(seed, o)| {
-            let m = &o.metrics;
+        .map(|(seed, m)| {
             vec![
                 seed.to_string(),
                 format!(
@@ -367,10 +365,8 @@ pub fn write_repeat_report(
         })
         .collect();
     let first = dir.join("seed-0");
-    let runs: Vec<(Option<f64>, Option<u32>)> = outcomes
-        .iter()
-        .map(|o| (o.metrics.drape_coefficient, o.metrics.nodes))
-        .collect();
+    let runs: Vec<(Option<f64>, Option<u32>)> =
+        runs.iter().map(|(_, m)| (m.drape_coefficient, m.nodes)).collect();
     let mut pictures = Vec::new();
     if runs.iter().any(|r| r.0.is_some()) {
         write_repeat_plot(dir, &runs)?;

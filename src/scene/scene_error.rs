@@ -84,6 +84,18 @@ fn place(at: &Option<(u32, u32)>) -> String {
 }
 
 impl SceneError {
+    /// An invalid `field` of the scene at `path` (a command-line option counts as a field), its
+    /// `value` and the `reason` (the allowed range), with no place in the file.
+    pub fn invalid(path: &std::path::Path, field: &str, value: impl Into<String>, reason: &str) -> Self {
+        SceneError::Invalid {
+            path: path.to_path_buf(),
+            at: None,
+            field: field.to_string(),
+            value: value.into(),
+            reason: reason.to_string(),
+        }
+    }
+
     /// The same error, with an invalid field's (or a refused step's) place in the scene `text`
     /// filled in, unless one of `overrides` (`KEY=VALUE`) set that field (its value then is not
     /// the file's).

@@ -8,10 +8,12 @@
 
 use std::path::Path;
 
+use serde::{Deserialize, Serialize};
+
 use super::richardson::{Extrapolation, extrapolate_means};
 use super::{aggregate, placed_runs};
+use crate::batch::{self, BatchError, Manifest, load_results};
 use crate::output::Metrics;
-use crate::repeat::simulate_all;
 use crate::scene::{ClothShape, IntegratorSpec, Scene, SceneError};
 
 /// What a convergence study runs.
@@ -69,23 +71,71 @@ impl Convergence {
     }
 }
 
-/// Runs the scene at `path` (with `base` overrides) at every spacing of `plan`, on `threads`
-/// threads; `on_done(finished, total)` reports progress.
+/// How a convergence study's tasks combine: spacing i's runs are tasks i·placements to
+/// (i + 1)·placements − 1.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceLayout {
+    /// Scene name.
+    pub scene: String,
+    /// Runs per spacing.
+    pub placements: usize,
+    /// The step exponent q used.
+    pub step_exponent: f64,
+    /// Node spacings (m), coarsest first.
+    pub spacings_m: Vec<f64>,
+    /// Each spacing's step (s).
+    pub steps_s: Vec<f64>,
+}
+
+/// Runs the scene at `path` (with `base` overrides) at every spacing of `plan` as a batch in
+/// `dir` ([`crate::batch`]): [`plan_convergence`], [`super::write_batch`] (results already in
+/// `dir` removed), then
+/// [`finish_convergence`].
 pub fn run_convergence(
     path: &Path,
     base: &[String],
     plan: &ConvergencePlan,
+    dir: &Path,
     threads: usize,
     on_done: impl Fn(usize, usize) + Sync,
-) -> Result<Convergence, SceneError> {
+) -> Result<Convergence, BatchError> {
+    let (manifest, scenes) = plan_convergence(path, base, plan)?;
+    super::write_batch(
+        dir,
+        &manifest.clone().map(super::BatchLayout::Converge),
+        &scenes,
+        false,
+    )?;
+    finish_convergence(dir, &manifest, threads, on_done)
+}
+
+/// Runs the unfinished tasks of the convergence study planned in `dir` on `threads` threads
+/// (`on_done(finished, total)` reports progress) and collects it.
+pub fn finish_convergence(
+    dir: &Path,
+    manifest: &Manifest<ConvergenceLayout>,
+    threads: usize,
+    on_done: impl Fn(usize, usize) + Sync,
+) -> Result<Convergence, BatchError> {
+    if let Some((_, e)) = batch::run_tasks(dir, manifest.tasks, threads, on_done)
+        .into_iter()
+        .next()
+    {
+        return Err(e);
+    }
+    collect_convergence(dir, manifest)
+}
+
+/// Plans a convergence study of the scene at `path` (with `base` overrides): its manifest and
+/// the scene of every task, in task order.
+pub fn plan_convergence(
+    path: &Path,
+    base: &[String],
+    plan: &ConvergencePlan,
+) -> Result<(Manifest<ConvergenceLayout>, Vec<Scene>), SceneError> {
     let scene = Scene::load(path, base)?;
-    let invalid = |field: &str, value: String, reason: &str| SceneError::Invalid {
-        path: scene.path.clone(),
-        at: None,
-        field: field.to_string(),
-        value,
-        reason: reason.to_string(),
-    };
+    let invalid =
+        |field: &str, value: String, reason: &str| SceneError::invalid(&scene.path, field, value, reason);
     let mut spacings = plan.spacings.clone();
     spacings.sort_by(|a, b| b.total_cmp(a));
     spacings.dedup();
@@ -111,31 +161,61 @@ pub fn run_convergence(
             IntegratorSpec::Implicit | IntegratorSpec::Bdf2 => 0.0,
         });
     let (sigma0, dt0) = (scene.spec.cloth.spacing_m, scene.spec.integration.dt_s);
-    let mut points = Vec::with_capacity(spacings.len());
-    for &s in &spacings {
-        let dt = dt0 * (s / sigma0).powf(exponent);
+    let steps: Vec<f64> = spacings
+        .iter()
+        .map(|s| dt0 * (s / sigma0).powf(exponent))
+        .collect();
+    let mut scenes = Vec::with_capacity(spacings.len() * group);
+    for (s, dt) in spacings.iter().zip(&steps) {
         let sets: Vec<String> = base
             .iter()
             .cloned()
             .chain([format!("cloth.spacing_m={s}"), format!("integration.dt_s={dt}")])
             .collect();
-        points.push((s, dt, Scene::load(path, &sets)?));
+        scenes.extend(placed_runs(&Scene::load(path, &sets)?, group)?);
     }
-    let mut scenes = Vec::with_capacity(points.len() * group);
-    for (_, _, point) in &points {
-        scenes.extend(placed_runs(point, group)?);
+    let layout = ConvergenceLayout {
+        scene: scene.spec.name.clone(),
+        placements: group,
+        step_exponent: exponent,
+        spacings_m: spacings,
+        steps_s: steps,
+    };
+    Ok((Manifest::new(path, scenes.len(), layout), scenes))
+}
+
+/// The convergence study of the batch in `dir`. Every task must have finished: an extrapolation
+/// needs every spacing (the error names the tasks missing).
+pub fn collect_convergence(
+    dir: &Path,
+    manifest: &Manifest<ConvergenceLayout>,
+) -> Result<Convergence, BatchError> {
+    let layout = &manifest.layout;
+    let group = layout.placements.max(1);
+    let (results, missing) = load_results(dir, manifest.tasks)?;
+    if manifest.tasks != layout.spacings_m.len() * group {
+        return Err(BatchError::malformed(
+            dir.join(crate::batch::MANIFEST_FILE),
+            format!(
+                "{} tasks for {} spacings of {group} runs",
+                manifest.tasks,
+                layout.spacings_m.len()
+            ),
+        ));
     }
-    let total = scenes.len();
-    let finished = std::sync::atomic::AtomicUsize::new(0);
-    on_done(0, total);
-    let outcomes = simulate_all(&scenes, threads, |_, _| {
-        let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        on_done(done, total);
-    });
-    let rows: Vec<ConvergenceRow> = points
+    if !missing.is_empty() {
+        return Err(BatchError::Unfinished {
+            dir: dir.to_path_buf(),
+            missing,
+        });
+    }
+    let metrics: Vec<&Metrics> = results.iter().flatten().map(|r| &r.metrics).collect();
+    let rows: Vec<ConvergenceRow> = layout
+        .spacings_m
         .iter()
-        .zip(outcomes.chunks(group))
-        .map(|((s, dt, _), runs)| {
+        .zip(&layout.steps_s)
+        .zip(metrics.chunks(group))
+        .map(|((s, dt), runs)| {
             let (metrics, dc_std) = aggregate(runs);
             ConvergenceRow {
                 spacing_m: *s,
@@ -151,14 +231,14 @@ pub fn run_convergence(
             .map(|r| value(&r.metrics).filter(|_| r.metrics.failure.is_none()))
             .collect();
         let errors: Vec<f64> = rows.iter().map(standard_error).collect();
-        extrapolate_means(&spacings, &values?, &errors)
+        extrapolate_means(&layout.spacings_m, &values?, &errors)
     };
     // A DC mean's standard error over its placements; the corner hang is a single run's.
     let dc_error = |r: &ConvergenceRow| r.dc_std.unwrap_or(0.0) / (group as f64).sqrt();
     Ok(Convergence {
-        scene: scene.spec.name.clone(),
+        scene: layout.scene.clone(),
         placements: group,
-        step_exponent: exponent,
+        step_exponent: layout.step_exponent,
         drape_coefficient: fit(|m| m.drape_coefficient, &dc_error),
         hang_corners_m: fit(|m| m.hang_corners_m, &|_| 0.0),
         cantilever_chord_deg: fit(|m| m.cantilever_chord_deg, &|_| 0.0),

@@ -13,22 +13,27 @@ mod convergence_report;
 pub mod heavy_elastica;
 pub mod richardson;
 mod shape_error;
+mod study_batch;
 mod study_plan;
 mod study_report;
 mod work_precision_plot;
 
 use std::path::Path;
 
-pub use convergence::{Convergence, ConvergencePlan, ConvergenceRow, run_convergence};
+pub use convergence::{
+    Convergence, ConvergenceLayout, ConvergencePlan, ConvergenceRow, collect_convergence, finish_convergence,
+    plan_convergence, run_convergence,
+};
 pub use convergence_report::{extrapolation_line, write_convergence};
 pub use shape_error::ReferenceSurface;
+pub use study_batch::{StudyLayout, collect_study, plan_study};
 pub use study_plan::{StudyPlan, Vary};
 pub use study_report::write_study;
 
+use crate::batch::{self, BatchError, BatchLayout, Manifest};
 use crate::output::Metrics;
-use crate::repeat::{repeat_scenes, simulate_all, summarise};
-use crate::run::RunOutcome;
-use crate::scene::{ClothShape, Scene, SceneError};
+use crate::repeat::{repeat_scenes, summarise_metrics};
+use crate::scene::{Scene, SceneError};
 
 /// One grid point of a study.
 #[derive(Clone, Debug)]
@@ -63,8 +68,9 @@ pub struct Study {
     pub keys: Vec<String>,
     /// The reference's overrides (`KEY=VALUE`).
     pub reference_setting: Vec<String>,
-    /// The reference's metrics (aggregated over placements as for a row).
-    pub reference: Metrics,
+    /// The reference's metrics (aggregated over placements as for a row); `None` while a run
+    /// of it has not finished.
+    pub reference: Option<Metrics>,
     /// Sample standard deviation of the reference's DC over its placements.
     pub reference_dc_std: Option<f64>,
     /// Runs per grid point and for the reference.
@@ -74,19 +80,23 @@ pub struct Study {
     /// Grid points not run: the stability guard refused them (an explicit step too long for
     /// the spacing), or another rule did (e.g. explicit damping too strong for the step).
     pub refused: Vec<RefusedPoint>,
+    /// Tasks of the batch not finished yet (their grid points are left out).
+    pub missing: Vec<usize>,
 }
 
 impl Study {
     /// Whether the study's scene is judged by DC (a drapemeter) rather than by corner hang (a
     /// tablecloth): any run or the reference measured a drape coefficient.
     pub fn is_drapemeter(&self) -> bool {
-        self.reference.drape_coefficient.is_some()
+        self.reference
+            .as_ref()
+            .is_some_and(|r| r.drape_coefficient.is_some())
             || self.rows.iter().any(|r| r.metrics.drape_coefficient.is_some())
     }
 }
 
 /// A grid point not run, and why.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RefusedPoint {
     /// The varied keys' values, in `--vary` order.
     pub setting: Vec<(String, String)>,
@@ -95,12 +105,12 @@ pub struct RefusedPoint {
 }
 
 /// Why a grid point was not run.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Refusal {
     /// The stability guard: the explicit `effect` needs a step of at most `max_step_s` (s).
     StepTooLong {
         /// The effect with the tightest limit.
-        effect: &'static str,
+        effect: String,
         /// Its largest stable step (s).
         max_step_s: f64,
     },
@@ -128,154 +138,49 @@ impl std::fmt::Display for Refusal {
     }
 }
 
-/// Runs the study of the scene at `path` (with `base` overrides on every run) on `threads`
-/// threads; `on_done(finished, total)` reports progress.
+/// Runs the study of the scene at `path` (with `base` overrides on every run) as a batch in
+/// `dir` ([`crate::batch`]): [`plan_study`], [`write_batch`] (results already in `dir` removed),
+/// then [`finish_study`].
 pub fn run_study(
     path: &Path,
     base: &[String],
     plan: &StudyPlan,
+    dir: &Path,
     threads: usize,
     on_done: impl Fn(usize, usize) + Sync,
-) -> Result<Study, SceneError> {
-    let group = plan.placements.max(1);
-    // The scene as given only names the study and marks the shipped setting; it is not run, so
-    // a step its own spacing would refuse does not stop a study that varies both.
-    let base_scene = match Scene::load(path, base) {
-        Err(SceneError::StepTooLong { .. }) => {
-            let unguarded: Vec<String> = base
-                .iter()
-                .cloned()
-                .chain(["integration.step_guard=false".to_string()])
-                .collect();
-            Scene::load(path, &unguarded)?
-        }
-        loaded => loaded?,
-    };
-    if group > 1 && !matches!(base_scene.spec.cloth.shape, ClothShape::Circle { .. }) {
-        return Err(SceneError::Invalid {
-            path: base_scene.path.clone(),
-            at: None,
-            field: "cloth.shape".to_string(),
-            value: format!("{:?}", base_scene.spec.cloth.shape),
-            reason: "--placements applies to circular cloths: a rectangle's lattice fills its outline"
-                .to_string(),
-        });
-    }
-    let mut settings = Vec::new();
-    let mut refused = Vec::new();
-    let mut points = Vec::new();
-    for setting in plan.settings() {
-        let sets: Vec<String> = base
-            .iter()
-            .cloned()
-            .chain(setting.iter().map(|(k, v)| format!("{k}={v}")))
-            .collect();
-        match Scene::load(path, &sets) {
-            Ok(scene) => {
-                points.push(scene);
-                settings.push(setting);
-            }
-            Err(SceneError::StepTooLong {
-                effect, max_step_s, ..
-            }) => refused.push(RefusedPoint {
-                setting,
-                why: Refusal::StepTooLong { effect, max_step_s },
-            }),
-            // A point only some combinations make invalid (a step too long for explicit damping
-            // next to implicit points that take it) is listed, not fatal; if every point is
-            // refused the study stops below with the reasons.
-            Err(SceneError::Invalid {
-                field, value, reason, ..
-            }) => refused.push(RefusedPoint {
-                setting,
-                why: Refusal::Invalid {
-                    field,
-                    message: format!("{value}: {reason}"),
-                },
-            }),
-            Err(e) => return Err(e),
-        }
-    }
-    let reference_sets: Vec<String> = base.iter().chain(&plan.reference).cloned().collect();
-    let reference_scene = Scene::load(path, &reference_sets)?;
-    // A grid point that is the reference (same resolved scene) is not run twice.
-    let reused = points.iter().position(|s| s.spec == reference_scene.spec);
-    if reused.is_none() {
-        points.push(reference_scene);
-    }
-    if settings.is_empty() {
-        let refused: Vec<String> = refused
-            .iter()
-            .map(|r| format!("{:?} ({})", r.setting, r.why))
-            .collect();
-        return Err(SceneError::Invalid {
-            path: base_scene.path.clone(),
-            at: None,
-            field: "integration.dt_s".to_string(),
-            value: "every grid point".to_string(),
-            reason: format!("every grid point is refused: {}", refused.join("; ")),
-        });
-    }
-    let mut scenes = Vec::with_capacity(points.len() * group);
-    for point in &points {
-        scenes.extend(placed_runs(point, group)?);
-    }
-    let total = scenes.len();
-    let finished = std::sync::atomic::AtomicUsize::new(0);
-    on_done(0, total);
-    let outcomes = simulate_all(&scenes, threads, |_, _| {
-        let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        on_done(done, total);
-    });
-    let groups: Vec<&[RunOutcome]> = outcomes.chunks(group).collect();
-    let reference_runs = groups[reused.unwrap_or(settings.len())];
-    let surface = ReferenceSurface::new(&reference_runs[0].topology, &reference_runs[0].positions);
-    let (reference, reference_dc_std) = aggregate(reference_runs);
-    // Against a failed reference there is nothing to measure errors from.
-    let comparable = reference.failure.is_none();
-    let rows = settings
+) -> Result<Study, BatchError> {
+    let (manifest, scenes) = plan_study(path, base, plan)?;
+    write_batch(dir, &manifest.clone().map(BatchLayout::Study), &scenes, false)?;
+    finish_study(dir, &manifest, threads, on_done)
+}
+
+/// Runs the unfinished tasks of the study planned in `dir` on `threads` threads
+/// (`on_done(finished, total)` reports progress) and collects it; the first task that cannot
+/// run is the error.
+pub fn finish_study(
+    dir: &Path,
+    manifest: &Manifest<StudyLayout>,
+    threads: usize,
+    on_done: impl Fn(usize, usize) + Sync,
+) -> Result<Study, BatchError> {
+    if let Some((_, e)) = batch::run_tasks(dir, manifest.tasks, threads, on_done)
         .into_iter()
-        .zip(&groups)
-        .map(|(setting, runs)| {
-            let (m, dc_std) = aggregate(runs);
-            let dc_error = match (m.drape_coefficient, reference.drape_coefficient) {
-                (Some(a), Some(b)) if m.failure.is_none() && comparable => Some((a - b).abs()),
-                _ => None,
-            };
-            let hang_error_m = match (m.hang_corners_m, reference.hang_corners_m) {
-                (Some(a), Some(b)) if m.failure.is_none() && comparable => Some((a - b).abs()),
-                _ => None,
-            };
-            let shape_error_m = match (&surface, m.failure.is_none() && comparable) {
-                (Some(s), true) => {
-                    Some(runs.iter().map(|o| s.rms_distance(&o.positions)).sum::<f64>() / runs.len() as f64)
-                }
-                _ => None,
-            };
-            let is_default = setting
-                .iter()
-                .all(|(k, v)| study_plan::same_value(base_scene.field(k).as_ref(), v));
-            StudyRow {
-                setting,
-                metrics: m,
-                dc_std,
-                dc_error,
-                hang_error_m,
-                shape_error_m,
-                is_default,
-            }
-        })
-        .collect();
-    Ok(Study {
-        scene: base_scene.spec.name.clone(),
-        keys: plan.vary.iter().map(|v| v.key.clone()).collect(),
-        reference_setting: plan.reference.clone(),
-        reference,
-        reference_dc_std,
-        placements: group,
-        rows,
-        refused,
-    })
+        .next()
+    {
+        return Err(e);
+    }
+    collect_study(dir, manifest)
+}
+
+/// Writes a planned batch (its manifest and task files) into `dir`; with `resume`, the results
+/// of unchanged tasks already there are kept ([`batch::write_plan`]).
+pub fn write_batch(
+    dir: &Path,
+    manifest: &Manifest<BatchLayout>,
+    scenes: &[Scene],
+    resume: bool,
+) -> Result<(), BatchError> {
+    batch::write_plan(dir, manifest, scenes, resume)
 }
 
 /// The runs of one grid point: the scene itself, or `n` > 1 repeats with seeds 0..n−1 and
@@ -291,22 +196,22 @@ pub(crate) fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneEr
 }
 
 /// One grid point's metrics over its runs (see [`StudyRow::metrics`]) and its DC's spread.
-pub(crate) fn aggregate(runs: &[RunOutcome]) -> (Metrics, Option<f64>) {
-    let summary = summarise(runs);
-    let mut m = runs[0].metrics.clone();
+pub(crate) fn aggregate(runs: &[&Metrics]) -> (Metrics, Option<f64>) {
+    let summary = summarise_metrics(runs);
+    let mut m = runs[0].clone();
     let n = runs.len() as f64;
     m.drape_coefficient = summary.dc_mean;
     m.nodes = summary.modal_nodes;
-    m.wall_time_s = runs.iter().map(|o| o.metrics.wall_time_s).sum::<f64>() / n;
-    m.max_strain = runs.iter().map(|o| o.metrics.max_strain).fold(0.0, f64::max);
-    m.settled = runs.iter().all(|o| o.metrics.settled);
+    m.wall_time_s = runs.iter().map(|o| o.wall_time_s).sum::<f64>() / n;
+    m.max_strain = runs.iter().map(|o| o.max_strain).fold(0.0, f64::max);
+    m.settled = runs.iter().all(|o| o.settled);
     // The slowest run's settle time, and none if any run did not settle.
     m.settle_time_s = runs
         .iter()
-        .map(|o| o.metrics.settle_time_s.filter(|_| o.metrics.settled))
+        .map(|o| o.settle_time_s.filter(|_| o.settled))
         .try_fold(0.0f64, |a, t| t.map(|t| a.max(t)));
-    m.failure = runs.iter().find_map(|o| o.metrics.failure.clone());
-    let hangs: Vec<f64> = runs.iter().filter_map(|o| o.metrics.hang_corners_m).collect();
+    m.failure = runs.iter().find_map(|o| o.failure.clone());
+    let hangs: Vec<f64> = runs.iter().filter_map(|o| o.hang_corners_m).collect();
     m.hang_corners_m = (hangs.len() == runs.len()).then(|| hangs.iter().sum::<f64>() / n);
     (m, summary.dc_std)
 }

@@ -73,56 +73,41 @@ fn csv_text(study: &Study) -> String {
             opt(row.hang_error_m, 5),
             study.placements,
             opt(row.dc_std, 4),
-            study.reference.failure.is_some(),
-            study.reference.settled,
+            study
+                .reference
+                .as_ref()
+                .map_or(String::new(), |r| r.failure.is_some().to_string()),
+            study
+                .reference
+                .as_ref()
+                .map_or(String::new(), |r| r.settled.to_string()),
         );
     }
     s
 }
 
 fn markdown(study: &Study) -> String {
-    let r = &study.reference;
     let mut s = format!("# Study of `{}`\n\n", study.scene);
-    let _ = writeln!(
-        s,
-        "Reference ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}; {}, {:.1} s wall.\n",
-        if study.reference_setting.is_empty() {
-            "the scene as shipped".to_string()
-        } else {
-            format!("`{}`", study.reference_setting.join(" "))
-        },
-        r.particles,
-        r.spacing_m * 1e3,
-        r.dt_s * 1e3,
-        r.integrator,
-        match (r.drape_coefficient, r.hang_corners_m) {
-            (Some(dc), _) => format!(
-                "DC {}, {} nodes",
-                with_spread(dc, study.reference_dc_std, study.placements),
-                r.nodes.map_or("-".into(), |n| n.to_string())
-            ),
-            (None, Some(hang)) => format!(
-                "corners hang {:.1} mm, {} skirt folds",
-                hang * 1e3,
-                r.skirt_folds.map_or("-".into(), |n| n.to_string())
-            ),
-            _ => "no drape or tablecloth measure".to_string(),
-        },
-        r.wall_time_s
-    );
-    if let Some(f) = &r.failure {
+    let reference_setting = if study.reference_setting.is_empty() {
+        "the scene as shipped".to_string()
+    } else {
+        format!("`{}`", study.reference_setting.join(" "))
+    };
+    match &study.reference {
+        Some(r) => reference_lines(&mut s, study, r, &reference_setting),
+        None => {
+            let _ = writeln!(
+                s,
+                "Reference ({reference_setting}): **not finished yet**: no errors are given.\n"
+            );
+        }
+    }
+    if !study.missing.is_empty() {
         let _ = writeln!(
             s,
-            "**The reference failed** at step {} (t = {:.4} s, particle {}, effect `{}`: {}): no \
-             errors are given. Choose a reference the stability guard and the solver can run.\n",
-            f.step, f.time_s, f.particle, f.effect, f.message
-        );
-    } else if !r.settled {
-        let _ = writeln!(
-            s,
-            "**The reference did not settle** within its {:.1} s: its measures are provisional, and \
-             so is every error below. Give it more time (`integration.max_time_s`).\n",
-            r.sim_time_s
+            "**Tasks not finished**: {:?}. Grid points with a run missing are left out; run the \
+             tasks (`kes-cloth task DIR K`) and collect again (`kes-cloth collect DIR`).\n",
+            study.missing
         );
     }
     if study.placements > 1 {
@@ -136,7 +121,7 @@ fn markdown(study: &Study) -> String {
         );
     }
     let table = !study.is_drapemeter();
-    s += if r.failure.is_some() {
+    s += if study.reference.as_ref().is_none_or(|r| r.failure.is_some()) {
         "★ marks the scene's own setting.\n\n"
     } else if table {
         "Errors are against the reference: hang error |hang − hang_ref| of the four corners below the \
@@ -208,4 +193,45 @@ fn markdown(study: &Study) -> String {
         }
     }
     s
+}
+
+/// The reference's line, and its failure or unsettled warning.
+fn reference_lines(s: &mut String, study: &Study, r: &crate::output::Metrics, setting: &str) {
+    let _ = writeln!(
+        s,
+        "Reference ({setting}): {} nodes at {:.1} mm, dt {:.3} ms, {}; {}, {:.1} s wall.\n",
+        r.particles,
+        r.spacing_m * 1e3,
+        r.dt_s * 1e3,
+        r.integrator,
+        match (r.drape_coefficient, r.hang_corners_m) {
+            (Some(dc), _) => format!(
+                "DC {}, {} nodes",
+                with_spread(dc, study.reference_dc_std, study.placements),
+                r.nodes.map_or("-".into(), |n| n.to_string())
+            ),
+            (None, Some(hang)) => format!(
+                "corners hang {:.1} mm, {} skirt folds",
+                hang * 1e3,
+                r.skirt_folds.map_or("-".into(), |n| n.to_string())
+            ),
+            _ => "no drape or tablecloth measure".to_string(),
+        },
+        r.wall_time_s
+    );
+    if let Some(f) = &r.failure {
+        let _ = writeln!(
+            s,
+            "**The reference failed** at step {} (t = {:.4} s, particle {}, effect `{}`: {}): no \
+             errors are given. Choose a reference the stability guard and the solver can run.\n",
+            f.step, f.time_s, f.particle, f.effect, f.message
+        );
+    } else if !r.settled {
+        let _ = writeln!(
+            s,
+            "**The reference did not settle** within its {:.1} s: its measures are provisional, and \
+             so is every error below. Give it more time (`integration.max_time_s`).\n",
+            r.sim_time_s
+        );
+    }
 }

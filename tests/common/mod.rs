@@ -12,6 +12,15 @@ pub fn crate_path(relative: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
 
+/// An empty folder of its own under the system's temporary folder, for a test named `tag`
+/// (removed first if an earlier run left it).
+pub fn fresh_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kes-cloth-{tag}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    dir
+}
+
 /// A shipped fabric by file stem, e.g. `"thick_cotton"`.
 pub fn shipped_fabric(stem: &str) -> Fabric {
     Fabric::load(crate_path(&format!("assets/fabrics/{stem}.ron"))).expect("shipped fabric loads")
@@ -171,3 +180,32 @@ pub fn without_clock_times(m: &kes_cloth::output::Metrics) -> serde_json::Value 
     }
     v
 }
+
+/// A CSV table without its `column` (e.g. `wall_time_s`: what two runs of the same tasks need
+/// not agree on).
+pub fn csv_without_column(csv: &str, column: &str) -> String {
+    let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+    let at = header
+        .iter()
+        .position(|h| *h == column)
+        .unwrap_or_else(|| panic!("no {column} column in {csv}"));
+    csv.lines()
+        .map(|l| {
+            let mut cells: Vec<&str> = l.split(',').collect();
+            cells.remove(at);
+            cells.join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A small study the batch tests run: the cantilever strip at 1 cm and 5 mm against a 2.5 mm
+/// reference, three implicit tasks of 0.1–1 s (`kes-cloth` arguments, from the crate's folder).
+pub const CANTILEVER_STUDY: [&str; 6] = [
+    "study",
+    "scenes/bending_length/cantilever_wool.ron",
+    "--vary",
+    "cloth.spacing_m=0.01,0.005",
+    "--reference",
+    "cloth.spacing_m=0.0025",
+];

@@ -15,11 +15,32 @@ use clap::{Parser, Subcommand};
     version,
     about,
     long_about,
-    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth fabric import my_kes_results.csv --out my_fabrics   fabric files from a KES table\n  kes-cloth drape my_fabrics/NAME.ron --tester cusick-30   a fabric file on a built-in tester\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary cloth.spacing_m=0.0075,0.005 --reference cloth.spacing_m=0.0025   accuracy vs time\n  kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005   DC at zero spacing, with its uncertainty\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md."
+    after_help = "Start here:\n  kes-cloth run scenes/drape_wool.ron            thin wool on the seed's drapemeter\n  kes-cloth run scenes/drape_cotton.ron --repeat 5   five seeds, modal node count, DC mean ± sd\n  kes-cloth check scenes/tablecloth_cotton.ron   the scene and its fabric, resolved in SI\n  kes-cloth run scenes/cusick_wool.ron --checkpoint-every 1   then, after Ctrl-C: kes-cloth resume out/cusick_wool\n  kes-cloth fabric import my_kes_results.csv --out my_fabrics   fabric files from a KES table\n  kes-cloth drape my_fabrics/NAME.ron --tester cusick-30   a fabric file on a built-in tester\n  kes-cloth kes assets/fabrics/thick_cotton.ron  virtual KES bending and shear tests of a fabric\n  kes-cloth study scenes/drape_wool.ron --vary cloth.spacing_m=0.0075,0.005 --reference cloth.spacing_m=0.0025   accuracy vs time\n  kes-cloth converge scenes/drape_cotton.ron --spacings 0.01,0.0075,0.005   DC at zero spacing, with its uncertainty\n  kes-cloth study ... --plan --out /shared/s; sbatch --array=0-N ...; kes-cloth collect /shared/s   a study on a cluster (docs/batches.md)\nDocs: README.md, docs/model.md (the physics), docs/rapier.md, docs/validation.md, docs/batches.md."
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// Where a batch (study, convergence study) runs and writes: shared by `study` and `converge`.
+#[derive(clap::Args)]
+pub struct BatchArgs {
+    /// Output folder, the batch's folder [default: out/<scene name>-study, or -convergence].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Runs at a time [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Only plan: write the runs as numbered task files and a manifest into DIR, for
+    /// `kes-cloth task DIR K` to run anywhere DIR is shared (a Slurm job array, a Kubernetes
+    /// Indexed Job, a loop) and `kes-cloth collect DIR` to combine.
+    #[arg(long)]
+    pub plan: bool,
+    /// Keep the results already in DIR of tasks that have not changed (a batch stopped
+    /// part-way, or planned and partly run elsewhere) and run only the rest. Without it, DIR's
+    /// old results are removed and every run starts afresh.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// What a run writes and how it repeats: shared by `run` and `drape`.
@@ -40,7 +61,9 @@ pub struct RunArgs {
     #[arg(long)]
     pub quiet: bool,
     /// Repeat the run with seeds 0..N-1 of the initial perturbation (on all cores), write
-    /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC.
+    /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC
+    /// (DIR/repeat.json, DIR/report.html). The runs are a batch (DIR/tasks/, DIR/results/), as
+    /// `study`'s are.
     #[arg(long, value_name = "N")]
     pub repeat: Option<usize>,
     /// With --repeat on a circular cloth: also shift the node lattice against the outline in
@@ -55,6 +78,14 @@ pub struct RunArgs {
     /// again, and each value is printed as value ± error.
     #[arg(long)]
     pub no_error_estimate: bool,
+    /// With --repeat: only plan the runs as task files in DIR (`--out`), for `kes-cloth task`
+    /// to run anywhere DIR is shared and `kes-cloth collect DIR` to summarise.
+    #[arg(long, requires = "repeat")]
+    pub plan: bool,
+    /// With --repeat: keep the finished runs already in DIR (of unchanged tasks) and run only
+    /// the rest.
+    #[arg(long, requires = "repeat")]
+    pub resume: bool,
 }
 
 #[derive(Subcommand)]
@@ -101,7 +132,10 @@ pub enum Command {
     /// Writes into DIR (default `out/<scene name>-study/`): `study.csv` and `study.md` (one row
     /// per setting: spacing, step, particles, steps, wall time, DC and nodes, DC error and shape
     /// error against the reference, strain, settled) and `work_precision.png` (error against
-    /// wall time, log-log, one curve per varied key, the scene as shipped marked).
+    /// wall time, log-log, one curve per varied key, the scene as shipped marked), and the batch
+    /// itself: `tasks/K.ron` (each run as a self-contained scene), `results/K.json` and `runs/K/`
+    /// (each run's own outputs). With `--plan` nothing runs: `kes-cloth task` runs the tasks,
+    /// here or on a cluster, and `kes-cloth collect` writes the report (docs/batches.md).
     ///
     /// Grid points whose explicit step the stability guard refuses are listed in `study.md`, not
     /// run. With `--placements N` (circular cloths only) every point and the reference run N
@@ -124,18 +158,14 @@ pub enum Command {
         /// An override applied to every run, reference included. Repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// Output folder [default: out/<scene name>-study].
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-        /// Runs at a time [default: all cores].
-        #[arg(long, value_name = "N")]
-        threads: Option<usize>,
         /// Run every grid point and the reference N times, run k with seed k and its own
         /// placement of the node lattice against a circular cloth's outline (as `run --repeat N
         /// --placements`), and compare means: a single run at 1 cm scatters by ±0.02 in DC from
         /// where the grid falls alone (docs/accuracy.md §1a).
         #[arg(long, value_name = "N", default_value_t = 1)]
         placements: usize,
+        #[command(flatten)]
+        batch: BatchArgs,
     },
     /// How far a result is from the fabric's own answer: run a scene at three or more node
     /// spacings, fit the observed order of convergence, and extrapolate its drape coefficient
@@ -168,12 +198,40 @@ pub enum Command {
         /// An override applied to every run. Repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// Output folder [default: out/<scene name>-convergence].
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-        /// Runs at a time [default: all cores].
-        #[arg(long, value_name = "N")]
-        threads: Option<usize>,
+        #[command(flatten)]
+        batch: BatchArgs,
+    },
+    /// Run one task of a planned batch (`study --plan`, `converge --plan`) and write its result.
+    ///
+    /// Writes `DIR/results/K.json` (the run's metrics and final node positions, SI) through a
+    /// temporary file and a rename, so a killed task leaves no partial result; a task whose
+    /// result is already there does nothing. Without K, the index comes from the scheduler:
+    /// Slurm's SLURM_ARRAY_TASK_ID or a Kubernetes Indexed Job's JOB_COMPLETION_INDEX.
+    ///
+    /// Example: kes-cloth study scenes/drape_wool.ron --vary cloth.spacing_m=0.01,0.0075
+    ///   --reference cloth.spacing_m=0.005 --plan --out runs/wool
+    ///          kes-cloth task runs/wool 0     (and 1, 2, in any order, on any machine)
+    ///          kes-cloth collect runs/wool
+    Task {
+        /// The batch folder (holding `manifest.json` and `tasks/`).
+        dir: PathBuf,
+        /// The task's index, 0 to tasks − 1 [default: from the scheduler's environment].
+        index: Option<usize>,
+        /// Print nothing on success.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Combine a batch's finished tasks into its report (`study.md`, `study.csv`, the plots;
+    /// `convergence.md` ...), written into DIR.
+    ///
+    /// A study is collected from whatever has finished: grid points with a run missing are left
+    /// out and listed, and the exit code is 1 until every task has finished. A convergence study
+    /// needs every task.
+    ///
+    /// Example: kes-cloth collect runs/wool
+    Collect {
+        /// The batch folder.
+        dir: PathBuf,
     },
     /// The virtual KES laboratory: simulate a KES-FB2 bending test and a KES-FB1 shear test on a
     /// strip of a fabric, with the same force generators as every scene, and read B, 2HB, G, 2HG

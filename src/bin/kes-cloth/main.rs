@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use kes_cloth::run::{CheckpointPlan, RunOptions, RunOutcome, simulate, summary, write_outputs};
 use kes_cloth::scene::Scene;
 
+mod batch_commands;
 mod cli;
 
 use cli::{Cli, Command, FabricCommand, RunArgs};
@@ -73,16 +74,15 @@ fn main() -> ExitCode {
             vary,
             reference,
             set,
-            out,
-            threads,
             placements,
+            batch,
         } => {
             let plan = kes_cloth::study::StudyPlan {
                 vary,
                 reference,
                 placements,
             };
-            run_study(&scene, plan, &set, out, threads)
+            batch_commands::study(&scene, &plan, &set, &batch)
         }
         Command::Converge {
             scene,
@@ -90,16 +90,17 @@ fn main() -> ExitCode {
             step_exponent,
             placements,
             set,
-            out,
-            threads,
+            batch,
         } => {
             let plan = kes_cloth::study::ConvergencePlan {
                 spacings,
                 step_exponent,
                 placements,
             };
-            run_convergence(&scene, &plan, &set, out, threads)
+            batch_commands::converge(&scene, &plan, &set, &batch)
         }
+        Command::Task { dir, index, quiet } => batch_commands::task(&dir, index, quiet),
+        Command::Collect { dir } => batch_commands::collect(&dir),
         Command::Kes {
             fabric,
             spacing_m,
@@ -168,159 +169,6 @@ fn finish_run(scene: &Scene, outcome: &RunOutcome, dir: &std::path::Path, quiet:
         println!("  wrote {}", dir.display());
     }
     ExitCode::SUCCESS
-}
-
-fn run_repeats(scene: &Scene, n: usize, placements: bool, dir: &std::path::Path, quiet: bool) -> ExitCode {
-    if n == 0 {
-        return fail(&"--repeat needs at least 1 run");
-    }
-    if placements
-        && !matches!(
-            scene.spec.cloth.shape,
-            kes_cloth::scene::ClothShape::Circle { .. }
-        )
-    {
-        return fail(&"--placements applies to circular cloths: a rectangle's lattice fills its outline");
-    }
-    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
-    if !quiet {
-        eprintln!("running {n} seeds of {} on {threads} threads...", scene.spec.name);
-    }
-    let mut scenes = Vec::with_capacity(n);
-    for run in kes_cloth::repeat::repeat_scenes(scene, n, placements) {
-        // A shifted lattice is checked like a scene of its own (e.g. pins must still meet nodes).
-        match Scene::from_spec(run.spec, run.path) {
-            Ok(s) => scenes.push(s),
-            Err(e) => return fail(&e),
-        }
-    }
-    let outcomes = kes_cloth::repeat::simulate_all(&scenes, threads, |_, _| {});
-    let mut failed = None;
-    for (seed, o) in outcomes.iter().enumerate() {
-        if let Err(e) = write_outputs(scene, o, &dir.join(format!("seed-{seed}"))) {
-            return fail(&e);
-        }
-        if !quiet {
-            let m = &o.metrics;
-            let dc = m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}"));
-            let nodes = m.nodes.map_or("-".into(), |v| v.to_string());
-            let settled = if m.settled {
-                format!("settled at {:.2} s", m.settle_time_s.unwrap_or(0.0))
-            } else {
-                "NOT settled".into()
-            };
-            let [ou, ov] = m.lattice_offset_m;
-            let lattice = if placements {
-                format!(", lattice shifted ({:.1}, {:.1}) mm", ou * 1e3, ov * 1e3)
-            } else {
-                String::new()
-            };
-            println!(
-                "  seed {seed}{lattice}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
-                m.wall_time_s
-            );
-        }
-        if let Some(f) = &o.metrics.failure {
-            failed = Some(f.clone());
-        }
-    }
-    let summary = kes_cloth::repeat::summarise(&outcomes);
-    let path = dir.join("repeat.json");
-    let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-    if let Err(e) = std::fs::write(&path, text + "\n") {
-        return fail(&format!("{}: cannot write: {e}", path.display()));
-    }
-    if scene.spec.output.report
-        && let Err(e) = kes_cloth::run::write_repeat_report(scene, &outcomes, &summary, dir)
-    {
-        return fail(&e);
-    }
-    if !quiet {
-        let modal = summary.modal_nodes.map_or("-".into(), |v| v.to_string());
-        let dc = match (summary.dc_mean, summary.dc_std) {
-            (Some(m), Some(s)) => format!("{m:.3} ± {s:.3}"),
-            _ => "-".into(),
-        };
-        println!(
-            "{}: {} runs, {} settled; modal nodes {modal}, DC {dc}",
-            scene.spec.name, summary.runs, summary.settled
-        );
-        println!("  wrote {}", dir.display());
-    }
-    match failed {
-        Some(f) => fail(&kes_cloth::run::DivergenceError(f)),
-        None => ExitCode::SUCCESS,
-    }
-}
-
-fn run_study(
-    scene: &std::path::Path,
-    plan: kes_cloth::study::StudyPlan,
-    set: &[String],
-    out: Option<PathBuf>,
-    threads: Option<usize>,
-) -> ExitCode {
-    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
-    let bar = batch_bar("study", (plan.settings().len() + 1) * plan.placements.max(1));
-    let study = kes_cloth::study::run_study(scene, set, &plan, threads, |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
-    bar.finish_and_clear();
-    let study = match study {
-        Ok(s) => s,
-        Err(e) => return fail(&e),
-    };
-    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-study", study.scene)));
-    match kes_cloth::study::write_study(&study, &dir) {
-        Ok(()) => print_report(&dir, "study.md"),
-        Err(e) => fail(&e),
-    }
-}
-
-/// A progress bar over `runs` runs of a batch (study, convergence).
-fn batch_bar(label: &'static str, runs: usize) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(runs as u64).with_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} runs, {elapsed} elapsed")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_message(label);
-    bar
-}
-
-/// Prints the Markdown report `file` a batch wrote into `dir`, and where it wrote.
-fn print_report(dir: &std::path::Path, file: &str) -> ExitCode {
-    match std::fs::read_to_string(dir.join(file)) {
-        Ok(table) => println!("{table}"),
-        Err(e) => return fail(&format!("{}: {e}", dir.join(file).display())),
-    }
-    println!("wrote {}", dir.display());
-    ExitCode::SUCCESS
-}
-
-fn run_convergence(
-    scene: &std::path::Path,
-    plan: &kes_cloth::study::ConvergencePlan,
-    set: &[String],
-    out: Option<PathBuf>,
-    threads: Option<usize>,
-) -> ExitCode {
-    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |t| t.get()));
-    let bar = batch_bar("converge", plan.spacings.len() * plan.placements.max(1));
-    let result = kes_cloth::study::run_convergence(scene, set, plan, threads, |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
-    bar.finish_and_clear();
-    let convergence = match result {
-        Ok(c) => c,
-        Err(e) => return fail(&e),
-    };
-    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-convergence", convergence.scene)));
-    match kes_cloth::study::write_convergence(&convergence, &dir) {
-        Ok(()) => print_report(&dir, "convergence.md"),
-        Err(e) => fail(&e),
-    }
 }
 
 fn run_kes_lab(
@@ -410,14 +258,27 @@ fn run_scene(scene: &Scene, args: RunArgs, checkpoint_every: Option<f64>) -> Exi
         repeat,
         placements,
         no_error_estimate,
+        plan,
+        resume,
         ..
     } = args;
+    if (plan || resume) && repeat.is_none() {
+        return fail(
+            &"--plan and --resume apply to --repeat (a single run resumes from a checkpoint: --checkpoint-every)",
+        );
+    }
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.spec.name));
     if let Some(n) = repeat {
         if checkpoint_every.is_some() {
             return fail(&"--checkpoint-every applies to a single run, not to --repeat");
         }
-        return run_repeats(scene, n, placements, &dir, quiet);
+        let at = cli::BatchArgs {
+            out: Some(dir),
+            threads: None,
+            plan,
+            resume,
+        };
+        return batch_commands::repeat(scene, n, placements, &at, quiet);
     }
     // A checkpoint left in DIR by an earlier run is not this run's to resume.
     let stale = dir.join(kes_cloth::checkpoint::CHECKPOINT_FILE);
