@@ -65,6 +65,17 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
                 "effects.stretch=Kes",
             ],
         ),
+        (
+            // A hold that gave way in one solve slides from the next step: carried over.
+            "implicit_release_next_step",
+            vec![
+                "integration.max_time_s=0.6",
+                "integration.integrator=Bdf2",
+                "integration.dt_s=0.0041666667",
+                "effects.stretch=Kes",
+                "integration.implicit_solver.friction_release=NextStep",
+            ],
+        ),
     ] {
         let mut all = common::explicit_drape("wool");
         all.extend(sets.into_iter().map(String::from));

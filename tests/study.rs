@@ -296,3 +296,31 @@ fn a_failed_reference_is_flagged_and_not_compared_with() {
     assert_eq!(column("dc_error"), "");
     assert_eq!(column("reference_failed"), "true");
 }
+
+/// Regression (a study of the clamped strip reported empty tablecloth columns): a cantilever
+/// study compares chord angles, beside the heavy elastica's exact angle, and its chord error
+/// against a 2.5 mm reference shrinks from 1 cm to 5 mm (the strip converges, `tests/cantilever.rs`).
+#[test]
+fn a_cantilever_study_compares_chord_angles() {
+    let scene = common::crate_path("scenes/bending_length/cantilever_wool.ron");
+    let plan = StudyPlan {
+        vary: vec!["cloth.spacing_m=0.01,0.005".parse::<Vary>().unwrap()],
+        reference: vec!["cloth.spacing_m=0.0025".into()],
+        placements: 1,
+    };
+    let dir = common::fresh_dir("study-cantilever");
+    let study = kes_cloth::study::run_study(&scene, &[], &plan, &dir, 2, |_, _| {}).unwrap();
+    assert_eq!(study.measure(), kes_cloth::study::StudyMeasure::CantileverChord);
+    let errors: Vec<f64> = study
+        .rows
+        .iter()
+        .map(|r| r.chord_error_deg.expect("a chord error"))
+        .collect();
+    assert!(
+        errors[1] < errors[0],
+        "chord errors {errors:?} (deg) do not shrink with the spacing"
+    );
+    let (md, csv) = written(&study, "cantilever");
+    assert!(md.contains("chord (°) | exact (°) | chord error (°)"), "{md}");
+    assert!(csv.lines().next().unwrap().ends_with("chord_error_deg"), "{csv}");
+}

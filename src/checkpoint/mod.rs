@@ -50,6 +50,10 @@ struct ImplicitState {
     /// BDF2's lag and previous velocities (absent with backward Euler or before its first step).
     #[serde(default)]
     bdf2: Option<Bdf2History>,
+    /// Per node: a hold that gave way in the last solve, sliding from the next step
+    /// (`FrictionRelease::NextStep`; empty for none).
+    #[serde(default)]
+    releases_due: Vec<bool>,
 }
 
 /// Everything needed to continue a run.
@@ -114,6 +118,7 @@ impl Snapshot {
                 pressed: i.0.pressed().to_vec(),
                 sliding: i.0.sliding_impulses().to_vec(),
                 bdf2: i.0.bdf2_history().cloned(),
+                releases_due: i.0.releases_due().to_vec(),
             }),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
@@ -159,6 +164,7 @@ impl Snapshot {
                     && i.0.restore_pressed(&s.pressed)
                     && i.0.restore_sliding_impulses(&s.sliding)
                     && i.0.restore_bdf2_history(s.bdf2.clone())
+                    && i.0.restore_releases_due(&s.releases_due)
             }
             (i, s) => i.is_none() && s.is_none(),
         };

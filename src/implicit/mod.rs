@@ -53,7 +53,7 @@ pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 pub use implicit_solver::ImplicitSolver;
 pub use preconditioner::{Preconditioner, TWO_LEVEL_FROM_NODES};
 pub use scheme::{Bdf2History, Scheme};
-pub use solver_settings::{ImplicitSettings, ImplicitStats};
+pub use solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats};
 pub use sparse_cholesky::SparseCholesky;
 pub use supports::Supports;
 pub use thread_lines::ThreadLines;

@@ -425,6 +425,12 @@ pub struct ImplicitSolverSpec {
     /// `Cholesky(refactor_above: K)` (a sparse factor of the whole system; slower than block
     /// Jacobi at every size measured).
     pub preconditioner: crate::implicit::Preconditioner,
+    /// When a node held by the supports' static friction, whose impulse leaves the friction
+    /// cone, starts to slide: `SameStep` (default: the step is solved again with it sliding)
+    /// or `NextStep` (from the next step: one solve a step; thin wool at 1/240 s drapes closer
+    /// to its small-step answer and settles sooner, `docs/model.md` §12, "When a hold gives
+    /// way").
+    pub friction_release: crate::implicit::FrictionRelease,
 }
 
 impl Default for ImplicitSolverSpec {
@@ -436,6 +442,7 @@ impl Default for ImplicitSolverSpec {
             velocity_tolerance_m_per_s: d.velocity_tolerance,
             friction: d.friction,
             preconditioner: d.preconditioner,
+            friction_release: d.friction_release,
         }
     }
 }

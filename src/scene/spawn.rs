@@ -59,6 +59,7 @@ fn integrator(spec: &IntegrationSpec) -> Integrator {
             velocity_tolerance: spec.implicit_solver.velocity_tolerance_m_per_s,
             friction: spec.implicit_solver.friction,
             preconditioner: spec.implicit_solver.preconditioner,
+            friction_release: spec.implicit_solver.friction_release,
             scheme: match spec.integrator {
                 IntegratorSpec::Bdf2 => Scheme::Bdf2,
                 _ => Scheme::BackwardEuler,

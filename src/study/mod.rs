@@ -52,6 +52,8 @@ pub struct StudyRow {
     pub dc_error: Option<f64>,
     /// |corner hang − reference corner hang| (m), for tablecloth scenes.
     pub hang_error_m: Option<f64>,
+    /// |chord − reference chord| (degrees), for cantilever scenes.
+    pub chord_error_deg: Option<f64>,
     /// RMS distance of this run's nodes from the reference's draped surface (m; over
     /// placements, the mean of each run's distance from the reference's first run).
     pub shape_error_m: Option<f64>,
@@ -85,14 +87,28 @@ pub struct Study {
 }
 
 impl Study {
-    /// Whether the study's scene is judged by DC (a drapemeter) rather than by corner hang (a
-    /// tablecloth): any run or the reference measured a drape coefficient.
-    pub fn is_drapemeter(&self) -> bool {
-        self.reference
-            .as_ref()
-            .is_some_and(|r| r.drape_coefficient.is_some())
-            || self.rows.iter().any(|r| r.metrics.drape_coefficient.is_some())
+    /// What the study's scene is judged by: the measure any run or the reference took.
+    pub fn measure(&self) -> StudyMeasure {
+        let all = || self.reference.iter().chain(self.rows.iter().map(|r| &r.metrics));
+        if all().any(|m| m.drape_coefficient.is_some()) {
+            StudyMeasure::DrapeCoefficient
+        } else if all().any(|m| m.cantilever_chord_deg.is_some()) {
+            StudyMeasure::CantileverChord
+        } else {
+            StudyMeasure::CornerHang
+        }
     }
+}
+
+/// The value a study compares its runs by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudyMeasure {
+    /// A drapemeter's drape coefficient.
+    DrapeCoefficient,
+    /// A tablecloth's corner hang below the table top.
+    CornerHang,
+    /// A clamped strip's chord angle (the bending-length test).
+    CantileverChord,
 }
 
 /// A grid point not run, and why.

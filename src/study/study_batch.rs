@@ -217,6 +217,7 @@ pub fn collect_study(dir: &Path, manifest: &Manifest<StudyLayout>) -> Result<Stu
             setting: setting.clone(),
             dc_error: error(|m| m.drape_coefficient),
             hang_error_m: error(|m| m.hang_corners_m),
+            chord_error_deg: error(|m| m.cantilever_chord_deg),
             shape_error_m,
             metrics: m,
             dc_std,

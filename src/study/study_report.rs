@@ -3,8 +3,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::Study;
 use super::work_precision_plot::plot_work_precision;
+use super::{Study, StudyMeasure};
 use crate::output::OutputError;
 
 /// Writes the study's table (CSV and Markdown) and its work–precision diagram into `dir`.
@@ -45,13 +45,13 @@ fn csv_text(study: &Study) -> String {
     s += ",particles,spacing_m,dt_s,integrator,steps,wall_time_s,settled,settle_time_s,\
           drape_coefficient,nodes,dc_error,shape_error_m,max_strain,failed,default,\
           hang_corners_m,skirt_folds,hang_error_m,placements,dc_std,reference_failed,\
-          reference_settled\n";
+          reference_settled,cantilever_chord_deg,cantilever_exact_deg,chord_error_deg\n";
     for row in &study.rows {
         let m = &row.metrics;
         let values: Vec<&str> = row.setting.iter().map(|(_, v)| v.as_str()).collect();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:.3},{},{},{},{},{},{},{:.5},{},{},{},{},{},{},{},{},{},{},{},{}",
             values.join(","),
             m.particles,
             m.spacing_m,
@@ -81,6 +81,9 @@ fn csv_text(study: &Study) -> String {
                 .reference
                 .as_ref()
                 .map_or(String::new(), |r| r.settled.to_string()),
+            opt(m.cantilever_chord_deg, 3),
+            opt(m.cantilever_exact_deg, 3),
+            opt(row.chord_error_deg, 3),
         );
     }
     s
@@ -120,21 +123,30 @@ fn markdown(study: &Study) -> String {
             study.placements - 1
         );
     }
-    let table = !study.is_drapemeter();
+    let measure = study.measure();
     s += if study.reference.as_ref().is_none_or(|r| r.failure.is_some()) {
-        "★ marks the scene's own setting.\n\n"
-    } else if table {
-        "Errors are against the reference: hang error |hang − hang_ref| of the four corners below the \
-         table top; shape error is the RMS distance of the run's nodes from the reference's draped \
-         surface. ★ marks the scene's own setting.\n\n"
+        "★ marks the scene's own setting.\n\n".to_string()
     } else {
-        "Errors are against the reference: DC error |DC − DC_ref|; shape error is the RMS distance \
-         of the run's nodes from the reference's draped surface. ★ marks the scene's own setting.\n\n"
-    };
-    let measures = if table {
-        "corner hang (mm) | skirt folds | hang error (mm)"
-    } else {
-        "DC | folds | DC error"
+        match measure {
+            StudyMeasure::DrapeCoefficient => "Errors are against the reference: DC error |DC − DC_ref|; ",
+            StudyMeasure::CornerHang => {
+                "Errors are against the reference: hang error |hang − hang_ref| of the four corners \
+                 below the table top; "
+            }
+            StudyMeasure::CantileverChord => {
+                "Errors are against the reference: chord error |chord − chord_ref|, the chord from \
+                 the clamp's edge to the free end (the heavy elastica's exact angle beside it); "
+            }
+        }
+        .to_string()
+            + "shape error is the RMS distance of the run's nodes from the reference's draped surface. \
+               ★ marks the scene's own setting.\n\n"
+    }
+    .as_str();
+    let measures = match measure {
+        StudyMeasure::DrapeCoefficient => "DC | folds | DC error",
+        StudyMeasure::CornerHang => "corner hang (mm) | skirt folds | hang error (mm)",
+        StudyMeasure::CantileverChord => "chord (°) | exact (°) | chord error (°)",
     };
     let _ = writeln!(
         s,
@@ -161,26 +173,32 @@ fn markdown(study: &Study) -> String {
             (false, Some(t)) if m.settled => format!("{t:.2}"),
             _ => "no".to_string(),
         };
+        let [value, count, error] = match measure {
+            StudyMeasure::DrapeCoefficient => [
+                m.drape_coefficient
+                    .map_or(String::new(), |dc| with_spread(dc, row.dc_std, study.placements)),
+                m.nodes.map_or("-".into(), |n| n.to_string()),
+                opt(row.dc_error, 3),
+            ],
+            StudyMeasure::CornerHang => [
+                opt(m.hang_corners_m.map(|h| h * 1e3), 1),
+                m.skirt_folds.map_or("-".into(), |n| n.to_string()),
+                opt(row.hang_error_m.map(|e| e * 1e3), 1),
+            ],
+            StudyMeasure::CantileverChord => [
+                opt(m.cantilever_chord_deg, 2),
+                opt(m.cantilever_exact_deg, 2),
+                opt(row.chord_error_deg, 2),
+            ],
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {:.1} | {} | {} | {} | {} | {} | {:.1} % |",
+            "| {} | {} | {:.3} | {:.1} | {} | {value} | {count} | {error} | {} | {:.1} % |",
             values.join(" | "),
             m.particles,
             m.dt_s * 1e3,
             m.wall_time_s,
             settled,
-            if table {
-                opt(m.hang_corners_m.map(|h| h * 1e3), 1)
-            } else {
-                m.drape_coefficient
-                    .map_or(String::new(), |dc| with_spread(dc, row.dc_std, study.placements))
-            },
-            if table { m.skirt_folds } else { m.nodes }.map_or("-".into(), |n| n.to_string()),
-            if table {
-                opt(row.hang_error_m.map(|e| e * 1e3), 1)
-            } else {
-                opt(row.dc_error, 3)
-            },
             opt(row.shape_error_m.map(|e| e * 1e3), 2),
             m.max_strain * 100.0
         );
@@ -204,18 +222,22 @@ fn reference_lines(s: &mut String, study: &Study, r: &crate::output::Metrics, se
         r.spacing_m * 1e3,
         r.dt_s * 1e3,
         r.integrator,
-        match (r.drape_coefficient, r.hang_corners_m) {
-            (Some(dc), _) => format!(
+        match (r.drape_coefficient, r.hang_corners_m, r.cantilever_chord_deg) {
+            (_, _, Some(chord)) => format!(
+                "chord {chord:.2}° (the heavy elastica's {})",
+                r.cantilever_exact_deg.map_or("-".into(), |e| format!("{e:.2}°"))
+            ),
+            (Some(dc), _, _) => format!(
                 "DC {}, {} nodes",
                 with_spread(dc, study.reference_dc_std, study.placements),
                 r.nodes.map_or("-".into(), |n| n.to_string())
             ),
-            (None, Some(hang)) => format!(
+            (None, Some(hang), _) => format!(
                 "corners hang {:.1} mm, {} skirt folds",
                 hang * 1e3,
                 r.skirt_folds.map_or("-".into(), |n| n.to_string())
             ),
-            _ => "no drape or tablecloth measure".to_string(),
+            _ => "no drape, tablecloth or cantilever measure".to_string(),
         },
         r.wall_time_s
     );

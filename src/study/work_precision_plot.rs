@@ -4,7 +4,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::{Study, StudyRow};
+use super::{Study, StudyMeasure, StudyRow};
 
 /// Smallest error drawn (errors below it, e.g. a run identical to the reference, sit on it).
 const ERROR_FLOOR: f64 = 1e-5;
@@ -116,11 +116,12 @@ fn draw(study: &Study, path: &Path) -> Result<(), PlotError> {
     root.fill(&WHITE)?;
     let (charts, legend) = root.split_vertically(600);
     let (left, right) = charts.split_horizontally(700);
-    // Drapemeter scenes are judged by DC, tablecloth scenes by how low their corners hang.
-    let first: (&str, ErrorOf) = if study.is_drapemeter() {
-        ("drape coefficient error |DC − DC_ref|", |r| r.dc_error)
-    } else {
-        ("corner hang error (mm)", |r| r.hang_error_m.map(|e| e * 1e3))
+    // Drapemeter scenes are judged by DC, tablecloth scenes by how low their corners hang,
+    // clamped strips by their chord angle.
+    let first: (&str, ErrorOf) = match study.measure() {
+        StudyMeasure::DrapeCoefficient => ("drape coefficient error |DC − DC_ref|", |r| r.dc_error),
+        StudyMeasure::CornerHang => ("corner hang error (mm)", |r| r.hang_error_m.map(|e| e * 1e3)),
+        StudyMeasure::CantileverChord => ("chord angle error (degrees)", |r| r.chord_error_deg),
     };
     let panels: [(_, &str, ErrorOf); 2] = [
         (left, first.0, first.1),

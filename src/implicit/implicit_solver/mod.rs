@@ -12,7 +12,7 @@ use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 use super::preconditioner::{Active, Preconditioner};
 use super::scheme::{Bdf2History, Scheme};
-use super::solver_settings::{ImplicitSettings, ImplicitStats};
+use super::solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats};
 use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
 use super::thread_lines::ThreadLines;
@@ -66,6 +66,9 @@ pub struct ImplicitSolver {
     /// a node held or unsupported: a node that slid keeps sliding into the next step, with
     /// this impulse as its drag, until it has all but stopped.
     sliding_impulse: Vec<f64>,
+    /// Per node: a hold that left its friction cone in the last solve and, with
+    /// [`FrictionRelease::NextStep`], slides from this step on.
+    release_next: Vec<bool>,
     /// Whether the last solve's surface pushed each supported node (Baraff & Witkin's release
     /// rule: a support is kept, while the node touches, until the surface would have to pull).
     pressed: Vec<bool>,
@@ -132,6 +135,7 @@ impl ImplicitSolver {
             prescribed: vec![DVec3::ZERO; n],
             sliding_drag: vec![0.0; n],
             sliding_impulse: vec![0.0; n],
+            release_next: vec![false; n],
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
@@ -299,7 +303,8 @@ impl ImplicitSolver {
         // Kinetic friction: a node that slid in the last step and still slides (faster than
         // FRICTION_SPEED along its surface) starts this one sliding, against the drag of its
         // last friction impulse at its current speed; only a hold that gives way needs a
-        // second solve. A node that has all but stopped is held again.
+        // second solve. A node that has all but stopped is held again, unless its hold gave way
+        // in the last solve and is released from this step (FrictionRelease::NextStep).
         for (i, (drag, impulse)) in self
             .sliding_drag
             .iter_mut()
@@ -308,7 +313,11 @@ impl ImplicitSolver {
         {
             let speed = tangential(normals[i], velocities[i]).length();
             *drag = 0.0;
-            if !self.fixed[i] || self.held[i] || speed <= FRICTION_SPEED {
+            let gave_way = std::mem::take(&mut self.release_next[i]);
+            if gave_way && self.fixed[i] && !self.held[i] && *impulse > 0.0 {
+                *drag = *impulse / speed.max(FRICTION_SPEED);
+                self.fixed[i] = false;
+            } else if !self.fixed[i] || self.held[i] || speed <= FRICTION_SPEED {
                 *impulse = 0.0;
             } else if *impulse > 0.0 {
                 *drag = *impulse / speed;
@@ -326,7 +335,9 @@ impl ImplicitSolver {
             max_iterations: self.settings.max_iterations,
         };
         let mut report = CgReport::default();
-        for pass in 0..FRICTION_PASSES {
+        let next_step = self.settings.friction_release == FrictionRelease::NextStep;
+        let passes = if next_step { 1 } else { FRICTION_PASSES };
+        for pass in 0..passes {
             // Supported nodes: our Δv has no component along the support normal (Baraff &
             // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
             // presses on them. A fixed node keeps no component at all.
@@ -510,8 +521,9 @@ impl ImplicitSolver {
                 break;
             }
             rows.product(&self.dv, ax);
-            // The last pass only judges the supports: a release there could not be solved.
-            let may_release = pass + 1 < FRICTION_PASSES;
+            // The last pass only judges the supports: a release there could not be solved (with
+            // NextStep, the one pass marks it for the next step).
+            let may_release = pass + 1 < passes;
             let mut released = false;
             for (i, pressed) in self.pressed.iter_mut().enumerate() {
                 let n = normals[i];
@@ -523,6 +535,12 @@ impl ImplicitSolver {
                 let mu = self.supports.friction[i];
                 if self.sliding_drag[i] > 0.0 {
                     self.sliding_impulse[i] = mu * normal.max(0.0);
+                }
+                if next_step && holding && sideways > mu * normal.max(0.0) {
+                    // Held through this step; from the next it slides against μ·λ_n.
+                    self.sliding_impulse[i] = mu * normal.max(0.0);
+                    self.release_next[i] = true;
+                    continue;
                 }
                 if may_release && holding && sideways > mu * normal.max(0.0) {
                     // It slides: the surface resists with kinetic friction μ·λ_n against the

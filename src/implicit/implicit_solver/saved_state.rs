@@ -34,6 +34,22 @@ impl ImplicitSolver {
         &self.sliding_impulse
     }
 
+    /// Which holds gave way in the last solve and slide from the next step
+    /// ([`crate::implicit::FrictionRelease::NextStep`]; for checkpoints).
+    pub fn releases_due(&self) -> &[bool] {
+        &self.release_next
+    }
+
+    /// Restores what [`Self::releases_due`] returned; an empty list (a checkpoint without them)
+    /// leaves none due; `false` (and nothing changed) if it does not fit this cloth.
+    pub fn restore_releases_due(&mut self, due: &[bool]) -> bool {
+        if due.is_empty() {
+            self.release_next.fill(false);
+            return true;
+        }
+        copy_if_same_length(&mut self.release_next, due)
+    }
+
     /// BDF2's history (for checkpoints; `None` before its first step or with backward Euler).
     pub fn bdf2_history(&self) -> Option<&Bdf2History> {
         self.bdf2.as_ref()
