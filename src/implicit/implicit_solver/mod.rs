@@ -1,6 +1,7 @@
 //! One linearly implicit velocity solve per step (backward Euler or BDF2), on the matrix
 //! assembled for that step.
 
+mod friction_start;
 mod saved_state;
 mod vectors;
 
@@ -287,43 +288,19 @@ impl ImplicitSolver {
             *d = DMat3::from_diagonal(DVec3::splat(*m));
         }
         matrix.add_particle_diagonal(topo, &mut self.diagonal);
-        // Static friction: every node a surface supports starts the step held (unless it is
-        // still sliding, below); a hold whose impulse leaves the friction cone is released
-        // after the solve and the solve repeated.
+        friction_start::start_holds(
+            friction_start::Holds {
+                fixed: &mut self.fixed,
+                drag: &mut self.sliding_drag,
+                impulse: &mut self.sliding_impulse,
+                release_next: &mut self.release_next,
+            },
+            &self.held,
+            &self.supports,
+            self.friction,
+            velocities,
+        );
         let normals = &self.supports.pushed;
-        for (((fixed, held), n), mu) in self
-            .fixed
-            .iter_mut()
-            .zip(&self.held)
-            .zip(normals)
-            .zip(&self.supports.friction)
-        {
-            *fixed = *held || (self.friction && *n != DVec3::ZERO && *mu > 0.0);
-        }
-        // Kinetic friction: a node that slid in the last step and still slides (faster than
-        // FRICTION_SPEED along its surface) starts this one sliding, against the drag of its
-        // last friction impulse at its current speed; only a hold that gives way needs a
-        // second solve. A node that has all but stopped is held again, unless its hold gave way
-        // in the last solve and is released from this step (FrictionRelease::NextStep).
-        for (i, (drag, impulse)) in self
-            .sliding_drag
-            .iter_mut()
-            .zip(&mut self.sliding_impulse)
-            .enumerate()
-        {
-            let speed = tangential(normals[i], velocities[i]).length();
-            *drag = 0.0;
-            let gave_way = std::mem::take(&mut self.release_next[i]);
-            if gave_way && self.fixed[i] && !self.held[i] && *impulse > 0.0 {
-                *drag = *impulse / speed.max(FRICTION_SPEED);
-                self.fixed[i] = false;
-            } else if !self.fixed[i] || self.held[i] || speed <= FRICTION_SPEED {
-                *impulse = 0.0;
-            } else if *impulse > 0.0 {
-                *drag = *impulse / speed;
-                self.fixed[i] = false;
-            }
-        }
         self.rows.assemble(matrix);
         self.stats.assembly_s += assembly_start.elapsed().as_secs_f64();
         let (rows, ax) = (&self.rows, &mut self.ax);
