@@ -222,10 +222,7 @@ pub fn repeat(scene: &Scene, n: usize, placements: bool, at: &BatchArgs, quiet: 
             at.threads()
         );
     }
-    if let Some((_, e)) = batch::run_tasks(&dir, manifest.tasks, at.threads(), |_, _| {})
-        .into_iter()
-        .next()
-    {
+    if let Err(e) = batch::run_all(&dir, manifest.tasks, at.threads(), |_, _| {}) {
         return fail(&e);
     }
     let repeats = match kes_cloth::repeat::collect_repeats(&dir, &manifest) {
