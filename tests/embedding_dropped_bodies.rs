@@ -3,8 +3,11 @@
 //! balls from 2 g to ten times its own mass, thrown down at 5 and 15 m/s, and everything comes
 //! to rest: no failure, no node or body below the floor.
 
+use bevy_ecs::prelude::*;
 use glam::DVec3;
-use kes_cloth::embed::{ClothBuilder, ClothOutline, prepare_world};
+use kes_cloth::embed::{ClothBuilder, ClothOutline, install, prepare_world, spawn_cloth};
+use kes_cloth::scene::SettleSpec;
+use kes_cloth::schedule::{ClothState, Failure, Physics};
 use rapier3d::prelude::*;
 
 mod common;
@@ -84,7 +87,8 @@ struct Outcome {
 
 /// Settles `fabric` on the floor for 0.5 s at `hz` (on its lower face if `lower_face`, else on
 /// its nodes' balls), throws the twelve bodies and runs 3.5 s.
-fn run(fabric: &str, hz: f64, lower_face: bool) -> Outcome {
+/// A world stepping at 1/`hz` s with a 2 m × 2 m floor, its top at y = 0, friction 0.5.
+fn floor_world(hz: f64) -> PhysicsWorld {
     let mut world = PhysicsWorld::default();
     world.integration_parameters.dt = (1.0 / hz) as f32;
     prepare_world(&mut world.integration_parameters);
@@ -95,7 +99,12 @@ fn run(fabric: &str, hz: f64, lower_face: bool) -> Outcome {
             .build(),
         None,
     );
-    let mut cloth = ClothBuilder::new(common::shipped_fabric(fabric))
+    world
+}
+
+/// The square cloth of `fabric`, 6 mm above the floor, with the builder's defaults.
+fn floor_cloth(fabric: &str, lower_face: bool) -> ClothBuilder {
+    ClothBuilder::new(common::shipped_fabric(fabric))
         .outline(ClothOutline::Rectangle {
             warp: SIDE,
             weft: SIDE,
@@ -103,8 +112,11 @@ fn run(fabric: &str, hz: f64, lower_face: bool) -> Outcome {
         .spacing(SPACING)
         .pose(DVec3::new(0.0, 0.006, 0.0), 0.0)
         .rest_on_lower_face(lower_face)
-        .build(&mut world)
-        .expect("builds");
+}
+
+fn run(fabric: &str, hz: f64, lower_face: bool) -> Outcome {
+    let mut world = floor_world(hz);
+    let mut cloth = floor_cloth(fabric, lower_face).build(&mut world).expect("builds");
     for _ in 0..(0.5 * hz) as usize {
         cloth.step(&mut world).expect("settles");
     }
@@ -193,4 +205,79 @@ fn bodies_dropped_onto_a_cloth_on_a_floor_are_caught_and_come_to_rest_at_the_hos
         }
     }
     println!("{}", report.join("\n"));
+}
+
+/// The bevy_ecs way in steps a cloth under dropped bodies exactly as `KesCloth::step` does: the
+/// same world, the same cloth (thin wool, settled 0.25 s on the floor at 1/60 s) and the same
+/// six bodies thrown down at 5 and 15 m/s, stepped 0.5 s either way, end with every node and
+/// every body at the same position to the bit. Both ways step Rapier with `SheetContacts`, make
+/// supported nodes immovable to the bodies and hand the bodies' pushes back to the cloth; a
+/// schedule that left out any of them would drift from the plain loop within a step of the
+/// first impact.
+#[test]
+fn in_a_bevy_schedule_dropped_bodies_and_the_cloth_move_exactly_as_with_kes_cloth_step() {
+    let hz = 60.0;
+    let (settle, after) = ((0.25 * hz) as usize, (0.5 * hz) as usize);
+    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+
+    let mut plain = floor_world(hz);
+    let mut cloth = floor_cloth("thin_wool", false).build(&mut plain).expect("builds");
+    for _ in 0..settle {
+        cloth.step(&mut plain).expect("settles");
+    }
+    let cloth_mass: f64 = cloth.parts().bodies.masses.iter().sum();
+    let thrown: Vec<Drop> = drops(10.0 * cloth_mass as f32).into_iter().take(6).collect();
+    let handles: Vec<RigidBodyHandle> = thrown.iter().map(|d| add_body(&mut plain, d)).collect();
+    for _ in 0..after {
+        cloth.step(&mut plain).expect("catches the bodies");
+    }
+
+    let mut physics = floor_world(hz);
+    let dt = physics.integration_parameters.dt as f64;
+    let parts = floor_cloth("thin_wool", false)
+        .build_parts(&mut physics)
+        .expect("builds");
+    let mut world = World::new();
+    let entity = spawn_cloth(&mut world, parts);
+    kes_cloth::scene::spawn::insert_resources(&mut world, physics, dt, &SettleSpec::default());
+    let mut schedule = Schedule::default();
+    install(&mut schedule);
+    for _ in 0..settle {
+        schedule.run(&mut world);
+    }
+    let ecs_handles: Vec<RigidBodyHandle> = {
+        let physics = &mut world.resource_mut::<Physics>().0;
+        thrown.iter().map(|d| add_body(physics, d)).collect()
+    };
+    assert_eq!(handles, ecs_handles, "the bodies' handles");
+    for _ in 0..after {
+        schedule.run(&mut world);
+    }
+    assert_eq!(world.resource::<Failure>().0, None);
+
+    let state = world.get::<ClothState>(entity).expect("the cloth");
+    assert!(
+        state
+            .positions
+            .iter()
+            .map(|p| bits(*p))
+            .eq(cloth.positions().iter().map(|p| bits(*p))),
+        "the cloth's nodes differ between the two ways in"
+    );
+    let bodies = &world.resource::<Physics>().0.bodies;
+    for h in &handles {
+        let (a, b) = (plain.bodies[*h].translation(), bodies[*h].translation());
+        assert_eq!(
+            a.to_array().map(f32::to_bits),
+            b.to_array().map(f32::to_bits),
+            "a body differs: {a:?} against {b:?}"
+        );
+    }
+    // And the bodies were caught: none below the floor's top by more than Rapier's allowed error.
+    let lowest = handles
+        .iter()
+        .flat_map(|h| plain.bodies[*h].colliders().to_vec())
+        .map(|c| plain.colliders[c].compute_aabb().mins.y)
+        .fold(f32::INFINITY, f32::min);
+    assert!(lowest >= -1e-3, "a body sank to {lowest} m");
 }

@@ -496,6 +496,12 @@ impl ClothBuilder {
                 world.insert_impulse_joint(pin.body, bodies.handles[node], joint);
             }
         }
+        // The state starts from what Rapier holds (its positions are f32), as every later step
+        // does: a cloth stepped by the schedule and one stepped by `KesCloth` start alike.
+        let mut state = ClothState::new(topology.clone(), positions);
+        bodies.read(world, &mut state.positions, &mut state.velocities);
+        state.previous_positions.clone_from(&state.positions);
+        state.geometry.update(&state.positions);
         ClothParts {
             effects: Effects::build(&self.effects, &topology, &self.fabric, &masses),
             implicit: match integrator {
@@ -513,7 +519,7 @@ impl ClothBuilder {
                     Some(solver)
                 }
             },
-            state: ClothState::new(topology.clone(), positions),
+            state,
             bodies,
         }
     }

@@ -24,6 +24,7 @@ mod step_error;
 pub use crate::bodies::SheetContacts;
 pub use build_error::BuildError;
 pub use cloth_builder::{ClothBuilder, ClothOutline, ClothParts, LOWEST_CLEARANCE, Pin};
+pub(crate) use ecs_install::spawn_scene_cloth;
 pub use ecs_install::{install, spawn_cloth};
 pub use host_world::prepare_world;
 pub use kes_cloth::KesCloth;

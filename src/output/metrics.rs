@@ -126,6 +126,9 @@ pub struct Metrics {
     /// with block Jacobi).
     #[serde(default)]
     pub cg_factorisations: Option<u64>,
+    /// Implicit runs: where the solve's wall time went, summed over the run (s).
+    #[serde(default)]
+    pub solve_split: Option<SolveSplit>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
     /// Creep check (scenes with `settle.creep_check_s`): how long the cloth was watched after
@@ -144,6 +147,22 @@ pub struct Metrics {
     /// The run was interrupted (Ctrl-C) before it settled or reached its time limit: these are
     /// partial results; `kes-cloth resume` continues from the last checkpoint.
     pub interrupted: bool,
+}
+
+/// Where an implicit run's solve spent its wall time, summed over the run (s). The three parts
+/// add up to a little less than the `implicit_solve` effect's seconds (the rest is the kick and
+/// the supports' bookkeeping).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolveSplit {
+    /// Assembling the system: every generator's stiffness and damping blocks, the right-hand
+    /// side and the particle rows (s).
+    pub assembly_s: f64,
+    /// Setting up the preconditioner: block inverses, thread-line and coarse factorisations,
+    /// the sparse Cholesky factor (s).
+    pub preconditioner_s: f64,
+    /// The conjugate gradients themselves: products, preconditioner applications, vector
+    /// updates (s).
+    pub cg_s: f64,
 }
 
 impl Metrics {

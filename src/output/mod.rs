@@ -15,7 +15,7 @@ use std::path::PathBuf;
 pub use fabric_sheet::fabric_sheet;
 pub use mesh_glb::{glb_bytes, write_glb};
 pub use mesh_obj::write_obj;
-pub use metrics::{EffectCost, FailureReport, Metrics};
+pub use metrics::{EffectCost, FailureReport, Metrics, SolveSplit};
 pub(crate) use plot_font::register_plot_font;
 pub use repeat_plot::write_repeat_plot;
 pub use report_html::{Report, ReportTable};

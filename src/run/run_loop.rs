@@ -18,7 +18,7 @@ use crate::checkpoint::Snapshot;
 use crate::forces::ClothTopology;
 use crate::implicit::ImplicitStats;
 use crate::measure::{CreepWatch, Motion, Progress, SettleState, WorldColliders};
-use crate::output::{EffectCost, FailureReport, Metrics};
+use crate::output::{EffectCost, FailureReport, Metrics, SolveSplit};
 use crate::scene::Scene;
 use crate::schedule::{
     Clock, ClothEffects, ClothState, EffectLedger, Failure, Implicit, build_step_schedule,
@@ -259,6 +259,11 @@ fn run_metrics(
         cg_unconverged_steps: implicit.map(|s| s.unconverged),
         cg_repeated_steps: implicit.map(|s| s.repeated),
         cg_factorisations: implicit.map(|s| s.factorisations),
+        solve_split: implicit.map(|s| SolveSplit {
+            assembly_s: s.assembly_s,
+            preconditioner_s: s.preconditioner_s,
+            cg_s: s.cg_s,
+        }),
         scene: scene.spec.name.clone(),
         fabric: scene.fabric.name.clone(),
         particles: topology.particle_count,

@@ -265,7 +265,14 @@ pub fn summary(outcome: &RunOutcome) -> String {
     let rapier = m.effects.get("rapier_step").map_or(0.0, |c| c.seconds);
     s += &format!("  time: our forces {ours:.2} s");
     if let Some(solve) = m.effects.get("implicit_solve").filter(|c| c.calls > 0) {
-        s += &format!(" (of which the implicit solve {:.2} s)", solve.seconds);
+        s += &format!(" (of which the implicit solve {:.2} s", solve.seconds);
+        if let Some(split) = m.solve_split {
+            s += &format!(
+                ": assembly {:.2} s, preconditioner {:.2} s, CG {:.2} s",
+                split.assembly_s, split.preconditioner_s, split.cg_s
+            );
+        }
+        s += ")";
     }
     s += &format!(", Rapier's step {rapier:.2} s");
     s

@@ -8,7 +8,7 @@ use rapier3d::prelude::{PhysicsWorld, RigidBodyBuilder};
 
 use super::{ClothShape, ColliderMotion, ColliderShape, IntegrationSpec, IntegratorSpec, Scene};
 use crate::bodies::{ThrownBody, WorldShape, add_world_collider, configure_world};
-use crate::embed::{ClothBuilder, ClothOutline, spawn_cloth};
+use crate::embed::{ClothBuilder, ClothOutline, spawn_scene_cloth};
 use crate::forces::ClothTopology;
 use crate::implicit::{ImplicitSettings, Integrator, Scheme};
 use crate::measure::{Motion, MovingColliders, SettleState, WorldColliders};
@@ -137,7 +137,7 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
     }
     let parts = builder.build_scene_parts(&mut physics);
     let mut world = World::new();
-    let entity = spawn_cloth(&mut world, parts);
+    let entity = spawn_scene_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);
     world.insert_resource(WorldColliders(world_shapes(scene)));
     world.insert_resource(MovingColliders(moving));

@@ -55,6 +55,20 @@ pub struct ClothNodes(pub ClothBodies);
 #[derive(Component)]
 pub struct Implicit(pub crate::implicit::ImplicitSolver);
 
+/// Present on a cloth in a host's world, whose own dynamic bodies may land on it
+/// ([`crate::embed::spawn_cloth`]; scenes have none): as [`crate::embed::KesCloth::step`] does,
+/// the schedule then steps Rapier with [`crate::bodies::SheetContacts`] (a body's contacts with
+/// nodes act along the sheet's normal), makes supported nodes immovable to the bodies
+/// ([`crate::bodies::ClothBodies::back_supported_nodes`]) and hands the bodies' pushes back to
+/// the cloth in the next step's forces.
+#[derive(Component, Clone, Debug, Default)]
+pub struct HostContacts {
+    /// Force (N) on each node from the host's dynamic bodies over the latest step.
+    pub loads: Vec<glam::DVec3>,
+    /// Scratch space for the nodes' surface normals.
+    pub normals: Vec<glam::DVec3>,
+}
+
 /// The effects a cloth carries (see [`crate::forces::Effects`]): only these run.
 #[derive(Component)]
 pub struct ClothEffects(pub Effects);

@@ -5,8 +5,10 @@ use std::time::Instant;
 use bevy_ecs::prelude::*;
 
 use super::cloth_components::{
-    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
+    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, HostContacts, Implicit, Physics,
+    SimulationFailure,
 };
+use crate::bodies::SheetContacts;
 
 /// Phase 1, prepare: update link geometry from the node state (read from Rapier at the end of
 /// the previous step, or set at spawn), clear forces.
@@ -64,22 +66,41 @@ pub fn sum_forces(clock: Res<Clock>, mut failure: ResMut<Failure>, mut cloths: Q
     }
 }
 
+/// End of phase 2's sums (cloths in a host's world only): add the force each node received from
+/// the host's dynamic bodies over the last step.
+pub fn add_body_loads(mut cloths: Query<(&mut ClothState, &HostContacts)>) {
+    for (mut state, host) in &mut cloths {
+        for (f, load) in state.forces.particle.iter_mut().zip(&host.loads) {
+            *f += *load;
+        }
+    }
+}
+
 /// Phase 2 (implicit cloths only): replace the summed forces by the backward-Euler force
 /// M·Δv/h (see [`crate::implicit`]).
 pub fn solve_implicit(
-    physics: Res<Physics>,
+    mut physics: ResMut<Physics>,
     clock: Res<Clock>,
     mut failure: ResMut<Failure>,
     mut ledger: ResMut<EffectLedger>,
-    mut cloths: Query<(&mut ClothState, &mut Implicit, &ClothNodes, &ClothEffects)>,
+    mut cloths: Query<(
+        &mut ClothState,
+        &mut Implicit,
+        &ClothNodes,
+        &ClothEffects,
+        Has<HostContacts>,
+    )>,
 ) {
     if failure.0.is_some() {
         return;
     }
-    for (mut state, mut implicit, nodes, effects) in &mut cloths {
+    for (mut state, mut implicit, nodes, effects, host) in &mut cloths {
         let start = Instant::now();
         let solver = &mut implicit.0;
         nodes.0.read_supports(&physics.0, &mut solver.supports);
+        if host {
+            nodes.0.back_supported_nodes(&mut physics.0, &solver.supports);
+        }
         nodes
             .0
             .read_pin_velocities(&physics.0, clock.dt, &mut solver.pin_velocities);
@@ -109,24 +130,42 @@ pub fn solve_implicit(
 }
 
 /// End of phase 2: hand each cloth's node forces to Rapier (unless the run is failing).
+/// For a cloth in a host's world, also write its surface normals for [`SheetContacts`].
 pub fn push_forces(
     mut physics: ResMut<Physics>,
     failure: Res<Failure>,
-    cloths: Query<(&ClothNodes, &ClothState)>,
+    mut cloths: Query<(&ClothNodes, &ClothState, Option<&mut HostContacts>)>,
 ) {
     if failure.0.is_some() {
         return;
     }
-    for (nodes, state) in &cloths {
+    for (nodes, state, host) in &mut cloths {
         nodes.0.write_forces(&mut physics.0, &state.forces.particle);
+        if let Some(mut host) = host {
+            nodes.0.write_sheet_normals(
+                &mut physics.0,
+                &state.topology,
+                &state.positions,
+                &mut host.normals,
+            );
+        }
     }
 }
 
 /// Phase 3, step: Rapier integrates gravity, joints, contact and friction (our forces' kick is
-/// already in the node velocities).
-pub fn step_rapier(mut physics: ResMut<Physics>, mut clock: ResMut<Clock>, mut ledger: ResMut<EffectLedger>) {
+/// already in the node velocities); with [`SheetContacts`] when a cloth is in a host's world.
+pub fn step_rapier(
+    mut physics: ResMut<Physics>,
+    mut clock: ResMut<Clock>,
+    mut ledger: ResMut<EffectLedger>,
+    host: Query<(), With<HostContacts>>,
+) {
     let start = Instant::now();
-    physics.0.step();
+    if host.is_empty() {
+        physics.0.step();
+    } else {
+        physics.0.step_with_events(&SheetContacts, &());
+    }
     ledger.record("rapier_step", start.elapsed().as_secs_f64());
     clock.step += 1;
     clock.time = clock.step as f64 * clock.dt;

@@ -2,11 +2,25 @@
 
 use bevy_ecs::prelude::*;
 
-use super::cloth_components::{Clock, ClothNodes, ClothState, Failure, Implicit, Physics, SimulationFailure};
+use super::cloth_components::{
+    Clock, ClothNodes, ClothState, Failure, HostContacts, Implicit, Physics, SimulationFailure,
+};
 use crate::measure::{
     Motion, MovingColliders, Progress, SettleState, WorldColliders, is_runaway, max_penetration,
     non_finite_state, non_finite_state_message, runaway_message,
 };
+
+/// Phase 4 (cloths in a host's world only): the force each node received from the host's
+/// dynamic bodies over the step, for the next step's forces.
+pub fn read_body_loads(
+    physics: Res<Physics>,
+    clock: Res<Clock>,
+    mut cloths: Query<(&ClothNodes, &mut HostContacts)>,
+) {
+    for (nodes, mut host) in &mut cloths {
+        nodes.0.read_body_loads(&physics.0, clock.dt, &mut host.loads);
+    }
+}
 
 /// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
 pub fn measure_motion(

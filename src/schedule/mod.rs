@@ -9,10 +9,12 @@
 //!    not ask for is not in that list and never runs. Then the link forces are summed onto
 //!    nodes; for a cloth with the
 //!    [`Implicit`] component they are replaced by the backward-Euler force ([`crate::implicit`]);
-//!    then they are handed to Rapier as one velocity kick per node.
-//! 3. [`Phase::Step`]: Rapier's step (gravity, joints, contact, friction).
+//!    then they are handed to Rapier as one velocity kick per node. A cloth in a host's world
+//!    ([`HostContacts`]) first takes the host's bodies' pushes of the last step.
+//! 3. [`Phase::Step`]: Rapier's step (gravity, joints, contact, friction; with
+//!    [`crate::bodies::SheetContacts`] when a cloth carries [`HostContacts`]).
 //! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, the finite-value
-//!    guard, motion statistics, the settle criterion.
+//!    guard, motion statistics, the host's bodies' pushes on the nodes, the settle criterion.
 //! 5. [`Phase::Output`]: progress reporting (only when a [`Progress`] resource exists).
 //!
 //! Systems run on a single thread in this order, with ambiguity detection set to error: two
@@ -26,13 +28,14 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
 
 pub use cloth_components::{
-    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, Implicit, Physics, SimulationFailure,
+    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, HostContacts, Implicit, Physics,
+    SimulationFailure,
 };
 pub use force_systems::{
-    advance_effect_states, apply_effects, prepare_forces, push_forces, solve_implicit, step_rapier,
-    sum_forces,
+    add_body_loads, advance_effect_states, apply_effects, prepare_forces, push_forces, solve_implicit,
+    step_rapier, sum_forces,
 };
-pub use measure_systems::{measure_motion, report_progress, update_settle};
+pub use measure_systems::{measure_motion, read_body_loads, report_progress, update_settle};
 
 use crate::measure::Progress;
 
@@ -85,6 +88,7 @@ pub fn add_step_systems(schedule: &mut Schedule) {
         (
             apply_effects,
             sum_forces,
+            add_body_loads.run_if(any_with_component::<HostContacts>),
             solve_implicit.run_if(any_with_component::<Implicit>),
             push_forces,
         )
@@ -92,7 +96,15 @@ pub fn add_step_systems(schedule: &mut Schedule) {
             .in_set(Phase::Forces),
     );
     schedule.add_systems(step_rapier.in_set(Phase::Step));
-    schedule.add_systems((measure_motion, update_settle).chain().in_set(Phase::Measure));
+    schedule.add_systems(
+        (
+            measure_motion,
+            read_body_loads.run_if(any_with_component::<HostContacts>),
+            update_settle,
+        )
+            .chain()
+            .in_set(Phase::Measure),
+    );
     schedule.add_systems(
         report_progress
             .run_if(resource_exists::<Progress>)

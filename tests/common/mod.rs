@@ -175,6 +175,7 @@ pub fn without_clock_times(m: &kes_cloth::output::Metrics) -> serde_json::Value 
     let mut v = serde_json::to_value(m).unwrap();
     let map = v.as_object_mut().unwrap();
     map.remove("wall_time_s");
+    map.remove("solve_split");
     for cost in map["effects"].as_object_mut().unwrap().values_mut() {
         cost.as_object_mut().unwrap().remove("seconds");
     }
