@@ -111,6 +111,17 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
         (i.solver_iterations, i.internal_pgs_iterations),
         spec.world.contact.stiffness(),
     );
+    let mut builder = cloth_builder(scene);
+    let (topology, flat) = builder.grid();
+    for node in scene.pinned_nodes().into_iter().chain(scene.clamped_nodes()) {
+        let anchor = physics.insert_body(RigidBodyBuilder::fixed().translation(flat[node].as_vec3()));
+        builder = builder.pin(topology.grid_coords[node], anchor, glam::Vec3::ZERO);
+    }
+    let parts = builder.build_scene_parts(&mut physics);
+    // The world's colliders come after the cloth's nodes, so that in each node–surface pair the
+    // node is Rapier's first collider: adding a pair then searches the node's few contact-graph
+    // edges, not the thousands a disk or table under the cloth has (docs/rapier.md, "Cost at
+    // fine lattices").
     let radius = scene.node_radius();
     let mut moving = Vec::new();
     for (k, (col, (shape, _))) in spec.world.colliders.iter().zip(world_shapes(scene)).enumerate() {
@@ -129,13 +140,6 @@ pub fn spawn(scene: &Scene) -> (World, Entity) {
             moving.push((k, body));
         }
     }
-    let mut builder = cloth_builder(scene);
-    let (topology, flat) = builder.grid();
-    for node in scene.pinned_nodes().into_iter().chain(scene.clamped_nodes()) {
-        let anchor = physics.insert_body(RigidBodyBuilder::fixed().translation(flat[node].as_vec3()));
-        builder = builder.pin(topology.grid_coords[node], anchor, glam::Vec3::ZERO);
-    }
-    let parts = builder.build_scene_parts(&mut physics);
     let mut world = World::new();
     let entity = spawn_scene_cloth(&mut world, parts);
     insert_resources(&mut world, physics, i.dt_s, &i.settle);
