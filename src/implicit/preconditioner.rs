@@ -43,6 +43,23 @@ pub enum Preconditioner {
 pub const TWO_LEVEL_FROM_NODES: usize = 5_000;
 
 impl Preconditioner {
+    /// The preconditioner in words (for `kes-cloth check`).
+    pub fn describe(self) -> String {
+        match self {
+            Self::Auto => {
+                format!("Auto: block Jacobi below {TWO_LEVEL_FROM_NODES} nodes, two-level from there")
+            }
+            Self::BlockJacobi => "block Jacobi".into(),
+            Self::Cholesky { refactor_above } => {
+                format!("sparse Cholesky, refactored after a solve of more than {refactor_above} products")
+            }
+            Self::ThreadLines => "thread lines".into(),
+            Self::TwoLevel { coarsening } => {
+                format!("two-level (thread lines plus a lattice {coarsening} times coarser)")
+            }
+        }
+    }
+
     /// The preconditioner this one stands for on a cloth of `nodes` nodes ([`Self::Auto`]
     /// resolved; any other is itself).
     pub fn for_nodes(self, nodes: usize) -> Self {

@@ -8,7 +8,7 @@ mod run_report;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy_ecs::prelude::*;
 use glam::DVec3;
@@ -102,6 +102,55 @@ pub fn estimate_error(scene: &Scene, outcome: &mut RunOutcome, options: &RunOpti
         ),
     };
     outcome.metrics.numerical_error = Some(estimate);
+}
+
+/// Simulates `scene` ([`simulate`]) and, at the same time on a second thread, its companion on
+/// a coarser lattice ([`companion_scene`]), whose values estimate the run's numerical error as
+/// [`estimate_error`] would after the run: the same outcome, in about the wall time of the
+/// longer of the two runs instead of their sum. The companion shows no progress and writes no
+/// checkpoint; it is stopped as soon as the run fails or is interrupted (no estimate is
+/// recorded then), and by an interrupt while the run waits for it.
+pub fn simulate_with_error_estimate(scene: &Scene, options: &RunOptions) -> RunOutcome {
+    let companion = match companion_scene(scene) {
+        Ok(companion) if measures_something(scene) => companion,
+        _ => {
+            let mut outcome = simulate(scene, options);
+            estimate_error(scene, &mut outcome, options);
+            return outcome;
+        }
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let companion_options = RunOptions {
+        progress: false,
+        checkpoint: None,
+        interrupt: Some(stop.clone()),
+    };
+    let interrupted = || {
+        options
+            .interrupt
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed))
+    };
+    std::thread::scope(|s| {
+        let helper = s.spawn(|| simulate(&companion, &companion_options));
+        let mut outcome = simulate(scene, options);
+        let m = &outcome.metrics;
+        let usable = m.failure.is_none() && !m.interrupted;
+        while !helper.is_finished() {
+            if !usable || interrupted() {
+                stop.store(true, Ordering::Relaxed);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let companion = helper
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        if usable {
+            let estimate = ErrorEstimate::from_runs(m, &companion.metrics, companion_ratio(scene));
+            outcome.metrics.numerical_error = Some(estimate);
+        }
+        outcome
+    })
 }
 
 /// Continues the run whose checkpoint is in `dir` to its end, writing further checkpoints there

@@ -2,8 +2,12 @@
 
 use std::fmt::Write as _;
 
-use super::{ClothShape, ColliderMotion, ColliderShape, EffectsSpec, Scene, StretchModel, spawn::cloth_grid};
+use super::{
+    ClothShape, ColliderMotion, ColliderShape, EffectsSpec, IntegratorSpec, Scene, StretchModel,
+    spawn::cloth_grid,
+};
 use crate::forces::{BUCKLING_MARGIN, LinkCompression};
+use crate::implicit::{FrictionRelease, Preconditioner};
 use crate::material::Thread;
 
 /// A multi-line description of the validated scene and its fabric in SI units.
@@ -106,7 +110,43 @@ pub fn describe(scene: &Scene) -> String {
         i.settle.max_speed_m_per_s,
         i.settle.hold_s
     );
+    let _ = writeln!(out, "  {}", integrator_text(scene, topology.particle_count));
     out
+}
+
+/// How our forces are integrated, and for an implicit solve its settings as this cloth gets them.
+fn integrator_text(scene: &Scene, nodes: usize) -> String {
+    let i = &scene.spec.integration;
+    let scheme = match i.integrator {
+        IntegratorSpec::Explicit => {
+            return "integrator: explicit (our forces as one velocity kick a step)".into();
+        }
+        IntegratorSpec::Implicit => "backward Euler",
+        IntegratorSpec::Bdf2 => "BDF2",
+    };
+    let solver = &i.implicit_solver;
+    let rope = scene.spec.effects.stretch == StretchModel::Constraint;
+    let friction = match solver.friction.unwrap_or(!rope) {
+        true => format!(
+            "on, a hold that gives way slides {}",
+            match solver.friction_release {
+                FrictionRelease::SameStep => "within its step (SameStep)",
+                FrictionRelease::NextStep => "from the next step (NextStep)",
+            }
+        ),
+        false => "left to Rapier's contact".into(),
+    };
+    format!(
+        "integrator: implicit, {scheme}; conjugate gradients preconditioned by {}{}, stopping at a relative residual of {} or a velocity error of {} m/s, at most {} products a step; friction in the solve {friction}",
+        solver.preconditioner.for_nodes(nodes).describe(),
+        match solver.preconditioner {
+            Preconditioner::Auto => format!(" (what Auto takes at {nodes} nodes)"),
+            _ => String::new(),
+        },
+        solver.tolerance,
+        solver.velocity_tolerance_m_per_s,
+        solver.max_iterations,
+    )
 }
 
 /// `(x, y, z)` with plain numbers.

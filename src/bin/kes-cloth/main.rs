@@ -305,15 +305,16 @@ fn run_scene(scene: &Scene, args: RunArgs, checkpoint_every: Option<f64>) -> Exi
         }),
         interrupt: Some(interrupt_flag()),
     };
-    let mut outcome = simulate(scene, &options);
-    if !no_error_estimate {
+    let outcome = if no_error_estimate {
+        simulate(scene, &options)
+    } else {
         if options.progress && kes_cloth::run::measures_something(scene) {
             eprintln!(
-                "estimating the numerical error: the same scene at {}× the spacing",
+                "estimating the numerical error alongside, on a second thread: the same scene at {}× the spacing",
                 kes_cloth::run::companion_ratio(scene)
             );
         }
-        kes_cloth::run::estimate_error(scene, &mut outcome, &options);
-    }
+        kes_cloth::run::simulate_with_error_estimate(scene, &options)
+    };
     finish_run(scene, &outcome, &dir, quiet)
 }
