@@ -114,3 +114,69 @@ fn repeats_with_placements_spread_the_lattice_over_half_a_spacing() {
     let plain = kes_cloth::repeat::repeat_scenes(&scene, 3, false);
     assert!(plain.iter().all(|s| s.spec.cloth.lattice_offset_m == [0.0, 0.0]));
 }
+
+/// With `cloth.roughness: Smooth` the start roughness belongs to the cloth, not to its lattice:
+/// every node, at any lattice placement and spacing, starts at the height of one seeded field
+/// at its flat position (along warp = +x and weft = +z from the centre), so shifted and refined
+/// lattices sample one start. Tolerance: positions are Rapier's f32 (half an ulp at 0.1 m is
+/// 3.7e-9 m). With the default `PerNode`, the same node position gets another offset on another
+/// lattice.
+#[test]
+fn a_smooth_start_roughness_is_the_same_field_on_every_lattice() {
+    let (amplitude, seed) = (0.0005, 3);
+    let field = kes_cloth::embed::SmoothRoughness::new(amplitude, seed);
+    let centre = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[])
+        .unwrap()
+        .spec
+        .cloth
+        .centre_m;
+    for (spacing, offset) in [
+        (0.01, (0.0, 0.0)),
+        (0.01, (0.003, -0.002)),
+        (0.0075, (-0.001, 0.0)),
+    ] {
+        let sets = [
+            format!("cloth.spacing_m={spacing}"),
+            format!("cloth.lattice_offset_m=({}, {})", offset.0, offset.1),
+            "cloth.roughness=Smooth".into(),
+            format!("cloth.perturbation_m={amplitude}"),
+            format!("seed={seed}"),
+        ];
+        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+        let (world, cloth) = spawn(&scene);
+        let state = world.entity(cloth).get::<ClothState>().unwrap();
+        let mut largest = 0.0f64;
+        for p in &state.positions {
+            let expected = centre[1] + field.height(p.x - centre[0], p.z - centre[2]);
+            assert!(
+                (p.y - expected).abs() < 1e-8,
+                "σ {spacing}, offset {offset:?}: node {p:?} at {} m, the field gives {expected} m",
+                p.y
+            );
+            largest = largest.max((p.y - centre[1]).abs());
+        }
+        // The field is not flat over the cloth: it lifts some node by a good part of its bound.
+        assert!(
+            largest > 0.3 * amplitude && largest <= amplitude + 1e-8,
+            "{largest} m"
+        );
+    }
+    // PerNode: a different offset at the same flat position on another lattice (the centre node
+    // of the centred 1 cm and 5 mm lattices).
+    let centre_height = |spacing: f64| {
+        let sets = [
+            format!("cloth.spacing_m={spacing}"),
+            format!("cloth.perturbation_m={amplitude}"),
+        ];
+        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+        let (world, cloth) = spawn(&scene);
+        let state = world.entity(cloth).get::<ClothState>().unwrap();
+        state
+            .positions
+            .iter()
+            .find(|p| (p.x - centre[0]).hypot(p.z - centre[2]) < 1e-6)
+            .unwrap()
+            .y
+    };
+    assert_ne!(centre_height(0.01), centre_height(0.005));
+}

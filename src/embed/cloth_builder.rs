@@ -3,12 +3,10 @@
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
-use rand::Rng;
-use rand_chacha::ChaCha8Rng;
-use rand_chacha::rand_core::SeedableRng;
 use rapier3d::prelude::*;
 
 use super::BuildError;
+use super::Roughness;
 use crate::bodies::{ClothBodies, NodeOptions};
 use crate::forces::{ClothTopology, EffectChoice, Effects, NodeMass, StepLimit, StretchModel};
 use crate::implicit::{ImplicitSettings, ImplicitSolver, Integrator};
@@ -77,6 +75,7 @@ pub struct ClothBuilder {
     fold_gap: Option<f64>,
     node_radius: Option<f64>,
     perturbation: (f64, u64),
+    roughness: Roughness,
     node_mass: NodeMass,
     effects: EffectChoice,
     contact: bool,
@@ -105,6 +104,7 @@ impl ClothBuilder {
             fold_gap: None,
             node_radius: None,
             perturbation: (0.0, 0),
+            roughness: Roughness::PerNode,
             node_mass: NodeMass::Uniform,
             effects: EffectChoice {
                 stretch: StretchModel::Constraint,
@@ -193,9 +193,18 @@ impl ClothBuilder {
         self
     }
 
-    /// A seeded random vertical offset of up to `amplitude` (m) on every node.
+    /// A seeded start roughness of up to `amplitude` (m), drawn as [`Self::roughness`] says
+    /// (default: an independent offset in ±`amplitude` at every node). Default none.
     pub fn perturbation(mut self, amplitude: f64, seed: u64) -> Self {
         self.perturbation = (amplitude, seed);
+        self
+    }
+
+    /// How the start roughness of [`Self::perturbation`] is drawn (default
+    /// [`Roughness::PerNode`]; [`Roughness::Smooth`]: one smooth field over the flat cloth, the
+    /// same at every spacing and lattice placement).
+    pub fn roughness(mut self, kind: Roughness) -> Self {
+        self.roughness = kind;
         self
     }
 
@@ -363,6 +372,23 @@ impl ClothBuilder {
         (topology, positions)
     }
 
+    /// Each node's flat position in the cloth's own frame (m: along the warp and the weft, from
+    /// the outline's centre), whatever the lattice's offset against the outline.
+    fn flat_coordinates(&self, topology: &ClothTopology) -> Vec<[f64; 2]> {
+        let sigma = self.spacing;
+        let (nu, nv) = self.grid_size();
+        let (hu, hv) = ((nu - 1) as f64 / 2.0, (nv - 1) as f64 / 2.0);
+        let [ou, ov] = match self.outline {
+            ClothOutline::Circle(_) => self.lattice_offset,
+            ClothOutline::Rectangle { .. } => [0.0; 2],
+        };
+        topology
+            .grid_coords
+            .iter()
+            .map(|&(i, j)| [(i as f64 - hu) * sigma + ou, (j as f64 - hv) * sigma + ov])
+            .collect()
+    }
+
     /// The settings' ranges, checked before anything is added to a world whose step is `dt`
     /// (s).
     fn check(&self, dt: f64) -> Result<(), BuildError> {
@@ -464,9 +490,11 @@ impl ClothBuilder {
         let topology = Arc::new(topology);
         let (amplitude, seed) = self.perturbation;
         if amplitude > 0.0 {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            for p in &mut positions {
-                p.y += amplitude * rng.random_range(-1.0..=1.0);
+            let offsets = self
+                .roughness
+                .offsets(amplitude, seed, &self.flat_coordinates(&topology));
+            for (p, dy) in positions.iter_mut().zip(offsets) {
+                p.y += dy;
             }
         }
         let masses = topology.node_masses(self.fabric.areal_density, self.node_mass);

@@ -19,6 +19,7 @@ mod cloth_builder;
 mod ecs_install;
 mod host_world;
 mod kes_cloth;
+mod smooth_roughness;
 mod step_error;
 
 pub use crate::bodies::SheetContacts;
@@ -28,4 +29,5 @@ pub(crate) use ecs_install::spawn_scene_cloth;
 pub use ecs_install::{install, spawn_cloth};
 pub use host_world::prepare_world;
 pub use kes_cloth::KesCloth;
+pub use smooth_roughness::{Roughness, SmoothRoughness};
 pub use step_error::StepError;

@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::embed::Roughness;
 pub use crate::forces::{NodeMass, StretchModel};
 use crate::material::KesFabric;
 
@@ -24,7 +25,7 @@ pub struct SceneFile {
     pub fabric: FabricSource,
     /// The cloth sample: shape, node spacing, placement.
     pub cloth: ClothSpec,
-    /// Seed of the random initial perturbation (default 0).
+    /// Seed of the start roughness (`cloth.perturbation_m`; default 0).
     #[serde(default)]
     pub seed: u64,
     /// The rigid world: gravity and colliders.
@@ -73,10 +74,17 @@ pub struct ClothSpec {
     /// measuring how much a result owes to where the grid happens to fall (`docs/accuracy.md`).
     #[serde(default)]
     pub lattice_offset_m: [f64; 2],
-    /// Amplitude of the seeded random vertical offset of each node (m; default 0). Breaks the
-    /// symmetry of a perfectly flat start so repeats can differ, like laboratory repeats.
+    /// Peak height of the seeded start roughness (m; default 0), drawn as `roughness` says.
+    /// Breaks the symmetry of a perfectly flat start so repeats can differ, like laboratory
+    /// repeats.
     #[serde(default)]
     pub perturbation_m: f64,
+    /// How the start roughness is drawn: `PerNode` (default: an independent offset in
+    /// ±`perturbation_m` at every node) or `Smooth` (one smooth random height field over the
+    /// flat cloth, wavelengths 2–20 cm, RMS a quarter of `perturbation_m`: the same start at
+    /// every spacing and lattice placement; `docs/model.md` §1).
+    #[serde(default)]
+    pub roughness: Roughness,
     /// Points (m) at which the cloth is pinned to the world: the node nearest each point in the
     /// flat layout is held there by a spherical joint to a fixed body (default none). Each point
     /// must lie within one spacing of a node.

@@ -39,6 +39,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .fold(c.fold_gap_m)
         .node_radius(scene.node_radius())
         .perturbation(c.perturbation_m, scene.spec.seed)
+        .roughness(c.roughness)
         .node_mass(c.node_mass)
         .stretch(fx.stretch)
         .compression_modulus(fx.compression_modulus_n_per_m)
