@@ -1,7 +1,8 @@
-//! Repeat runs, like a laboratory: the same scene with seeds 0..N−1 of the initial
-//! perturbation, on all cores, summarised as the modal node count and the mean and spread of DC.
-//! Optionally each run also shifts the node lattice against the cloth's outline, so the spread
-//! includes where the grid happens to fall (`docs/accuracy.md`).
+//! Repeat runs, like a laboratory: the same scene with seeds 0..N−1 of the start roughness, on
+//! all cores, summarised as the modal node count and the mean and spread of DC. Optionally each
+//! run also shifts the node lattice against the cloth's outline, so the spread includes where
+//! the grid happens to fall; with a smooth start roughness the runs then keep the scene's seed,
+//! and the spread is where the grid falls alone (`docs/accuracy.md`).
 
 use serde::Serialize;
 
@@ -10,7 +11,7 @@ use std::path::Path;
 use crate::batch::{BatchError, Manifest, load_results, parallel_map, task_path};
 use crate::output::Metrics;
 use crate::run::{RunOptions, RunOutcome, simulate};
-use crate::scene::{ClothShape, Scene, SceneError};
+use crate::scene::{ClothShape, Roughness, Scene, SceneError};
 
 /// The distribution of a drape result over repeats.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -33,13 +34,18 @@ pub struct RepeatSummary {
     pub lattice_offsets_m: Vec<[f64; 2]>,
 }
 
-/// The scenes of `n` repeats of `scene`: run k has seed k and, if `placements`, the k-th lattice
-/// offset of [`placement_offset`] (run 0 keeps the scene's own lattice).
+/// The scenes of `n` repeats of `scene`: run k has seed k and, if `placements`, the k-th
+/// lattice offset of [`placement_offset`] (run 0 keeps the scene's own lattice). Placements keep
+/// the scene's seed when its start roughness is [`Roughness::Smooth`], one start for every
+/// lattice, so that their spread is the lattice's alone; with [`Roughness::PerNode`], another
+/// start on every lattice anyway, run k has seed k.
 pub fn repeat_scenes(scene: &Scene, n: usize, placements: bool) -> Vec<Scene> {
     (0..n)
         .map(|k| {
             let mut run = scene.clone();
-            run.spec.seed = k as u64;
+            if !placements || run.spec.cloth.roughness == Roughness::PerNode {
+                run.spec.seed = k as u64;
+            }
             if placements && k > 0 {
                 run.spec.cloth.lattice_offset_m = placement_offset(k, run.spec.cloth.spacing_m);
             }
@@ -119,7 +125,7 @@ pub fn summarise_metrics(runs: &[&Metrics]) -> RepeatSummary {
     }
 }
 
-/// How a batch of repeats combines: task K is run K (seed K, the K-th placement).
+/// How a batch of repeats combines: task K is run K (seed K and/or the K-th placement).
 #[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct RepeatLayout {
     /// Scene name.

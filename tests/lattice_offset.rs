@@ -82,8 +82,10 @@ fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
     assert!(e.contains("cloth.fold_gap_m"), "{e}");
 }
 
-/// `--repeat N --placements`: run k has seed k and the k-th offset of an even sequence over
-/// ± half a spacing; run 0 keeps the scene's own lattice, and no two runs share a placement.
+/// `--repeat N --placements`: run k takes the k-th offset of an even sequence over ± half a
+/// spacing and seed k (the default per-node roughness is another start on every lattice
+/// anyway); run 0 keeps the scene's own lattice, and no two runs share a placement. With a
+/// smooth start roughness, one start for every lattice, every run keeps the scene's seed.
 #[test]
 fn repeats_with_placements_spread_the_lattice_over_half_a_spacing() {
     let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[]).unwrap();
@@ -113,14 +115,23 @@ fn repeats_with_placements_spread_the_lattice_over_half_a_spacing() {
     // Without placements every run keeps the scene's lattice.
     let plain = kes_cloth::repeat::repeat_scenes(&scene, 3, false);
     assert!(plain.iter().all(|s| s.spec.cloth.lattice_offset_m == [0.0, 0.0]));
+    assert!(plain.iter().enumerate().all(|(k, s)| s.spec.seed == k as u64));
+    let smooth = Scene::load(
+        common::crate_path("scenes/drape_wool.ron"),
+        &["cloth.roughness=Smooth".to_string(), "seed=5".to_string()],
+    )
+    .unwrap();
+    let runs = kes_cloth::repeat::repeat_scenes(&smooth, 3, true);
+    assert!(runs.iter().all(|s| s.spec.seed == 5));
+    assert_ne!(runs[1].spec.cloth.lattice_offset_m, [0.0, 0.0]);
 }
 
-/// With `cloth.roughness: Smooth` the start roughness belongs to the cloth, not to its lattice:
+/// With `cloth.roughness: Smooth` the start roughness belongs to the cloth, not to its
+/// lattice:
 /// every node, at any lattice placement and spacing, starts at the height of one seeded field
 /// at its flat position (along warp = +x and weft = +z from the centre), so shifted and refined
 /// lattices sample one start. Tolerance: positions are Rapier's f32 (half an ulp at 0.1 m is
-/// 3.7e-9 m). With the default `PerNode`, the same node position gets another offset on another
-/// lattice.
+/// 3.7e-9 m). With `PerNode`, the same node position gets another offset on another lattice.
 #[test]
 fn a_smooth_start_roughness_is_the_same_field_on_every_lattice() {
     let (amplitude, seed) = (0.0005, 3);
@@ -167,6 +178,7 @@ fn a_smooth_start_roughness_is_the_same_field_on_every_lattice() {
         let sets = [
             format!("cloth.spacing_m={spacing}"),
             format!("cloth.perturbation_m={amplitude}"),
+            "cloth.roughness=PerNode".into(),
         ];
         let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
         let (world, cloth) = spawn(&scene);

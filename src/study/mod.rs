@@ -199,8 +199,8 @@ pub fn write_batch(
     batch::write_plan(dir, manifest, scenes, resume)
 }
 
-/// The runs of one grid point: the scene itself, or `n` > 1 repeats with seeds 0..n−1 and
-/// lattice placements, each validated as a scene of its own (a rectangle refuses an offset).
+/// The runs of one grid point: the scene itself, or `n` > 1 runs on shifted lattice
+/// placements ([`crate::repeat::repeat_scenes`]), each validated as a scene of its own (a rectangle refuses an offset).
 pub(crate) fn placed_runs(scene: &Scene, n: usize) -> Result<Vec<Scene>, SceneError> {
     if n <= 1 {
         return Ok(vec![scene.clone()]);

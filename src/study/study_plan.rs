@@ -42,9 +42,10 @@ pub struct StudyPlan {
     /// `KEY=VALUE` overrides that make the converged reference.
     pub reference: Vec<String>,
     /// Runs per grid point and for the reference (0 or 1: one run with the scene's seed and
-    /// lattice). With N > 1, run k has seed k and the k-th lattice placement of
-    /// [`crate::repeat::placement_offset`], and each row reports the mean over the N runs: a
-    /// single run at 1 cm scatters by ±0.02 in DC from where the grid falls alone.
+    /// lattice). With N > 1, run k takes the k-th lattice placement of
+    /// [`crate::repeat::placement_offset`] and seed k (the scene's seed with a `Smooth` start
+    /// roughness), and each row reports the mean over the N runs: a single run at 1 cm scatters
+    /// by ±0.02 in DC from where the grid falls alone.
     pub placements: usize,
 }
 

@@ -197,7 +197,7 @@ fn report(dir: &Path, collected: &Collected) -> ExitCode {
     }
 }
 
-/// `kes-cloth run --repeat N`: seeds 0..N−1 (and placements) as a batch in the run's folder.
+/// `kes-cloth run --repeat N`: seeds 0..N−1 (or placements) as a batch in the run's folder.
 pub fn repeat(scene: &Scene, n: usize, placements: bool, at: &BatchArgs, quiet: bool) -> ExitCode {
     let (manifest, scenes) = match kes_cloth::repeat::plan_repeats(scene, n, placements) {
         Ok(p) => p,

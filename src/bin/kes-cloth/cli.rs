@@ -60,16 +60,18 @@ pub struct RunArgs {
     /// No progress bar and no summary.
     #[arg(long)]
     pub quiet: bool,
-    /// Repeat the run with seeds 0..N-1 of the initial perturbation (on all cores), write
+    /// Repeat the run with seeds 0..N-1 of the start roughness (on all cores), write
     /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC
     /// (DIR/repeat.json, DIR/report.html). The runs are a batch (DIR/tasks/, DIR/results/), as
     /// `study`'s are.
     #[arg(long, value_name = "N")]
     pub repeat: Option<usize>,
     /// With --repeat on a circular cloth: also shift the node lattice against the outline in
-    /// each run (an even spread over ± half a spacing; run 0 keeps the scene's lattice), so the spread of
-    /// DC and nodes includes where the grid falls against the disk's rim. At 1 cm this
-    /// alone moves DC by up to 0.11 for thin wool (docs/accuracy.md).
+    /// each run (an even spread over ± half a spacing; run 0 keeps the scene's lattice), so the
+    /// spread of DC and nodes includes where the grid falls against the disk's rim. With
+    /// cloth.roughness=Smooth (one start for every lattice) the runs keep the scene's seed and
+    /// the spread is the lattice's alone; with the default per-node roughness, another start on
+    /// every lattice anyway, run k has seed k (docs/accuracy.md).
     #[arg(long, requires = "repeat")]
     pub placements: bool,
     /// Skip the companion run that estimates the numerical error of a single run's measured
@@ -139,7 +141,8 @@ pub enum Command {
     ///
     /// Grid points whose explicit step the stability guard refuses are listed in `study.md`, not
     /// run. With `--placements N` (circular cloths only) every point and the reference run N
-    /// times, run k with seed k and the k-th lattice placement, and rows compare means.
+    /// times, run k on the k-th lattice placement (and seed k, unless cloth.roughness=Smooth),
+    /// and rows compare means.
     ///
     /// Example: kes-cloth study scenes/drape_wool.ron --placements 4
     ///   --vary cloth.spacing_m=0.0125,0.01,0.0075 --vary integration.dt_s=0.0002,0.0001
@@ -158,9 +161,9 @@ pub enum Command {
         /// An override applied to every run, reference included. Repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// Run every grid point and the reference N times, run k with seed k and its own
-        /// placement of the node lattice against a circular cloth's outline (as `run --repeat N
-        /// --placements`), and compare means: a single run at 1 cm scatters by ±0.02 in DC from
+        /// Run every grid point and the reference N times, run k on its own placement of the
+        /// node lattice against a circular cloth's outline and with seed k unless
+        /// cloth.roughness=Smooth (as `run --repeat N --placements`), and compare means: a single run at 1 cm scatters by ±0.02 in DC from
         /// where the grid falls alone (docs/accuracy.md §1a).
         #[arg(long, value_name = "N", default_value_t = 1)]
         placements: usize,
@@ -191,8 +194,8 @@ pub enum Command {
         /// q in dt ∝ σ^q [default: 2 explicit, 0 implicit].
         #[arg(long, value_name = "Q")]
         step_exponent: Option<f64>,
-        /// Runs per spacing, run k with seed k and the k-th lattice placement (circular cloths):
-        /// where the lattice meets the rim scatters a single run's DC.
+        /// Runs per spacing, run k on the k-th lattice placement (circular cloths; seed k unless
+        /// cloth.roughness=Smooth): where the lattice meets the rim scatters a single run's DC.
         #[arg(long, value_name = "N", default_value_t = 1)]
         placements: usize,
         /// An override applied to every run. Repeatable.
