@@ -342,12 +342,13 @@ impl ClothBuilder {
         let sigma = self.spacing;
         let (nu, nv) = self.grid_size();
         let (hu, hv) = ((nu - 1) as f64 / 2.0, (nv - 1) as f64 / 2.0);
-        let (radius, [ou, ov]) = match self.outline {
-            ClothOutline::Circle(d) => (Some(d / 2.0), self.lattice_offset),
-            ClothOutline::Rectangle { .. } => (None, [0.0; 2]),
+        let [ou, ov] = self.outline_offset();
+        let radius = match self.outline {
+            ClothOutline::Circle(d) => Some(d / 2.0),
+            ClothOutline::Rectangle { .. } => None,
         };
         let topology = ClothTopology::from_mask(nu, nv, sigma, |i, j| {
-            let (x, z) = ((i as f64 - hu) * sigma + ou, (j as f64 - hv) * sigma + ov);
+            let [x, z] = self.flat_position(i, j);
             radius.is_none_or(|r| x * x + z * z <= r * r * (1.0 + 1e-9))
         });
         let angle = self.warp_angle_deg.to_radians();
@@ -375,18 +376,32 @@ impl ClothBuilder {
     /// Each node's flat position in the cloth's own frame (m: along the warp and the weft, from
     /// the outline's centre), whatever the lattice's offset against the outline.
     fn flat_coordinates(&self, topology: &ClothTopology) -> Vec<[f64; 2]> {
-        let sigma = self.spacing;
-        let (nu, nv) = self.grid_size();
-        let (hu, hv) = ((nu - 1) as f64 / 2.0, (nv - 1) as f64 / 2.0);
-        let [ou, ov] = match self.outline {
-            ClothOutline::Circle(_) => self.lattice_offset,
-            ClothOutline::Rectangle { .. } => [0.0; 2],
-        };
         topology
             .grid_coords
             .iter()
-            .map(|&(i, j)| [(i as f64 - hu) * sigma + ou, (j as f64 - hv) * sigma + ov])
+            .map(|&(i, j)| self.flat_position(i as usize, j as usize))
             .collect()
+    }
+
+    /// The flat position of grid crossing (`i`, `j`) in the cloth's own frame (m: along the warp
+    /// and the weft, from the outline's centre).
+    fn flat_position(&self, i: usize, j: usize) -> [f64; 2] {
+        let sigma = self.spacing;
+        let (nu, nv) = self.grid_size();
+        let [ou, ov] = self.outline_offset();
+        [
+            (i as f64 - (nu - 1) as f64 / 2.0) * sigma + ou,
+            (j as f64 - (nv - 1) as f64 / 2.0) * sigma + ov,
+        ]
+    }
+
+    /// The lattice's shift against the outline (m, along warp and weft): a circle's
+    /// [`Self::lattice_offset`], none on a rectangle.
+    fn outline_offset(&self) -> [f64; 2] {
+        match self.outline {
+            ClothOutline::Circle(_) => self.lattice_offset,
+            ClothOutline::Rectangle { .. } => [0.0; 2],
+        }
     }
 
     /// The settings' ranges, checked before anything is added to a world whose step is `dt`
