@@ -43,15 +43,23 @@ pub fn repeat_scenes(scene: &Scene, n: usize, placements: bool) -> Vec<Scene> {
     (0..n)
         .map(|k| {
             let mut run = scene.clone();
-            if !placements || run.spec.cloth.roughness == Roughness::PerNode {
-                run.spec.seed = k as u64;
-            }
+            run.spec.seed = repeat_seed(scene, k, placements);
             if placements && k > 0 {
                 run.spec.cloth.lattice_offset_m = placement_offset(k, run.spec.cloth.spacing_m);
             }
             run
         })
         .collect()
+}
+
+/// The seed of run `k` of [`repeat_scenes`]: `k`, or the scene's own with placements over a
+/// smooth start roughness.
+pub fn repeat_seed(scene: &Scene, k: usize, placements: bool) -> u64 {
+    if placements && scene.spec.cloth.roughness == Roughness::Smooth {
+        scene.spec.seed
+    } else {
+        k as u64
+    }
 }
 
 /// The k-th lattice offset (m) of a low-discrepancy (R2) sequence over the square of side

@@ -63,6 +63,8 @@ fn a_task_runs_exactly_as_the_scene_it_was_planned_from() {
         "cloth.spacing_m=0.01".to_string(),
         "integration.dt_s=0.00025".to_string(),
         "integration.max_time_s=0.05".to_string(),
+        // A start per seed, so the task carries both the seed and the placement.
+        "cloth.roughness=PerNode".to_string(),
     ]);
     let plan = StudyPlan {
         vary: vec!["integration.dt_s=0.00025".parse::<Vary>().unwrap()],

@@ -88,7 +88,11 @@ fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
 /// smooth start roughness, one start for every lattice, every run keeps the scene's seed.
 #[test]
 fn repeats_with_placements_spread_the_lattice_over_half_a_spacing() {
-    let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &[]).unwrap();
+    let scene = Scene::load(
+        common::crate_path("scenes/drape_wool.ron"),
+        &["cloth.roughness=PerNode".to_string()],
+    )
+    .unwrap();
     let sigma = scene.spec.cloth.spacing_m;
     let runs = kes_cloth::repeat::repeat_scenes(&scene, 10, true);
     let offsets: Vec<[f64; 2]> = runs.iter().map(|s| s.spec.cloth.lattice_offset_m).collect();

@@ -255,7 +255,8 @@ fn repeat_report(dir: &Path, r: &Repeats) -> Result<(), String> {
 
 /// One line per run and the summary.
 fn print_repeats(r: &Repeats, placements: bool) {
-    for (seed, m) in &r.runs {
+    for (k, m) in &r.runs {
+        let seed = kes_cloth::repeat::repeat_seed(&r.scene, *k, placements);
         let dc = m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}"));
         let nodes = m.nodes.map_or("-".into(), |v| v.to_string());
         let settled = if m.settled {
@@ -270,7 +271,7 @@ fn print_repeats(r: &Repeats, placements: bool) {
             String::new()
         };
         println!(
-            "  seed {seed}{lattice}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
+            "  run {k}, seed {seed}{lattice}: DC {dc}, {nodes} nodes, {settled}, {:.1} s wall",
             m.wall_time_s
         );
     }
