@@ -196,3 +196,51 @@ fn a_smooth_start_roughness_is_the_same_field_on_every_lattice() {
     };
     assert_ne!(centre_height(0.01), centre_height(0.005));
 }
+
+/// A smooth start's bound is the cloth's, not the lattice's: the shipped thin wool drape's
+/// 0.5 mm smooth start loads at 1.25 mm (where a per-node start is held to a quarter of the
+/// spacing, 0.31 mm, and refused with its field and range).
+#[test]
+fn a_smooth_start_keeps_its_amplitude_on_fine_lattices() {
+    let load = |roughness: &str| {
+        Scene::load(
+            common::crate_path("scenes/drape_wool.ron"),
+            &[
+                "cloth.spacing_m=0.00125".to_string(),
+                format!("cloth.roughness={roughness}"),
+            ],
+        )
+    };
+    let smooth = load("Smooth").expect("a 0.5 mm smooth start at 1.25 mm loads");
+    assert_eq!(smooth.spec.cloth.perturbation_m, 0.0005);
+    let Err(e) = load("PerNode") else {
+        panic!("a 0.5 mm per-node start at 1.25 mm loaded");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("cloth.perturbation_m") && e.contains("0.0003125"),
+        "{e}"
+    );
+}
+
+/// Where the lattice falls moves thick cotton's drape by no more than the target at the shipped
+/// spacing: on the seed's drapemeter as shipped (3.75 mm, the smooth start), three placements
+/// (run 0 centred, all at seed 0) give a DC standard deviation of at most 0.01 and one node
+/// count (measured over four: 0.755 ± 0.007, 4 nodes each). Thin wool's ± 0.012 misses that
+/// target at 3.75 mm and meets it at 2.5 mm (`docs/accuracy.md`), which this suite cannot afford.
+#[test]
+fn placements_move_thick_cottons_drape_by_less_than_a_hundredth() {
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &[]).unwrap();
+    let runs = kes_cloth::repeat::repeat_scenes(&scene, 3, true);
+    let outcomes = kes_cloth::repeat::simulate_all(&runs, 2, |_, _| {});
+    let metrics: Vec<_> = outcomes.iter().map(|o| &o.metrics).collect();
+    let s = kes_cloth::repeat::summarise_metrics(&metrics);
+    assert_eq!(s.settled, 3, "{s:?}");
+    let sd = s.dc_std.expect("a DC each");
+    assert!(sd <= 0.01, "DC {:?} ± {sd:.4}", s.dc_mean);
+    assert!(
+        s.nodes.iter().all(|n| *n == s.modal_nodes),
+        "node counts {:?}",
+        s.nodes
+    );
+}

@@ -29,5 +29,5 @@ pub(crate) use ecs_install::spawn_scene_cloth;
 pub use ecs_install::{install, spawn_cloth};
 pub use host_world::prepare_world;
 pub use kes_cloth::KesCloth;
-pub use smooth_roughness::{Roughness, SmoothRoughness};
+pub use smooth_roughness::{MAX_SMOOTH_AMPLITUDE_M, Roughness, SmoothRoughness};
 pub use step_error::StepError;

@@ -54,6 +54,12 @@ const WAVES: usize = 8;
 /// lattices to the size of a drape's folds (6–20 cm on the drapemeters' skirts).
 const WAVELENGTHS_M: (f64, f64) = (0.02, 0.2);
 
+/// Largest peak amplitude (m) of a smooth start: its steepest possible slope, 2π·A over the
+/// shortest wavelength, stays at 1/2, the slope a per-node start reaches at its own bound (a
+/// quarter of the spacing: neighbours up to half a spacing apart in height). The bound is the
+/// cloth's, not the lattice's, so one start serves every spacing (about 1.6 mm).
+pub const MAX_SMOOTH_AMPLITUDE_M: f64 = WAVELENGTHS_M.0 / (4.0 * std::f64::consts::PI);
+
 /// One plane wave: wave vector (rad/m, along warp and weft) and phase (rad).
 #[derive(Clone, Copy, Debug)]
 struct Wave {

@@ -74,7 +74,9 @@ pub struct ClothSpec {
     /// measuring how much a result owes to where the grid happens to fall (`docs/accuracy.md`).
     #[serde(default)]
     pub lattice_offset_m: [f64; 2],
-    /// Peak height of the seeded start roughness (m; default 0), drawn as `roughness` says.
+    /// Peak height of the seeded start roughness (m; default 0), drawn as `roughness` says: at
+    /// most a quarter of the spacing per node, at most 1.6 mm for a smooth field (whatever the
+    /// spacing, so one start serves a convergence study).
     /// Breaks the symmetry of a perfectly flat start so repeats can differ, like laboratory
     /// repeats.
     #[serde(default)]
@@ -435,9 +437,9 @@ pub struct ImplicitSolverSpec {
     pub preconditioner: crate::implicit::Preconditioner,
     /// When a node held by the supports' static friction, whose impulse leaves the friction
     /// cone, starts to slide: `SameStep` (default: the step is solved again with it sliding)
-    /// or `NextStep` (from the next step: one solve a step; thin wool at 1/240 s drapes closer
-    /// to its small-step answer and settles sooner, `docs/model.md` §12, "When a hold gives
-    /// way").
+    /// or `NextStep` (from the next step: one solve a step, each cheaper; from the smooth start
+    /// the drapes agree to 0.004 in DC and rest comes no sooner, `docs/model.md` §12, "When a
+    /// hold gives way").
     pub friction_release: crate::implicit::FrictionRelease,
 }
 

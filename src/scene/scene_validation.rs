@@ -1,5 +1,7 @@
 //! Physical and numerical range checks of a scene, each naming the field and the allowed range.
 
+use crate::embed::{MAX_SMOOTH_AMPLITUDE_M, Roughness};
+
 use super::scene_file::{
     ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, MeasureSpec, SCENE_VERSION, SceneFile,
     StretchModel,
@@ -120,13 +122,22 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
     finite3("cloth.centre_m", c.centre_m)?;
     in_closed("cloth.warp_angle_deg", c.warp_angle_deg, -360.0, 360.0, "deg")?;
     in_closed("cloth.initial_shear_deg", c.initial_shear_deg, -60.0, 60.0, "deg")?;
-    in_closed(
-        "cloth.perturbation_m",
-        c.perturbation_m,
-        0.0,
-        c.spacing_m / 4.0,
-        "m (a quarter of the spacing)",
-    )?;
+    match c.roughness {
+        Roughness::PerNode => in_closed(
+            "cloth.perturbation_m",
+            c.perturbation_m,
+            0.0,
+            c.spacing_m / 4.0,
+            "m (a quarter of the spacing, with cloth.roughness: PerNode)",
+        )?,
+        Roughness::Smooth => in_closed(
+            "cloth.perturbation_m",
+            c.perturbation_m,
+            0.0,
+            MAX_SMOOTH_AMPLITUDE_M,
+            "m (with cloth.roughness: Smooth, whose steepest slope is then 1/2 or less)",
+        )?,
+    }
     for (k, &o) in c.lattice_offset_m.iter().enumerate() {
         in_closed(
             &format!("cloth.lattice_offset_m[{k}]"),
