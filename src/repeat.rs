@@ -147,12 +147,21 @@ pub struct RepeatLayout {
 pub struct Repeats {
     /// Run 0's scene, as its task file has it (for the report's name and fabric).
     pub scene: Scene,
-    /// Each finished run's seed and metrics, in seed order.
+    /// Each finished run's index and metrics, in run order ([`Repeats::seed`] gives its seed).
     pub runs: Vec<(usize, Metrics)>,
     /// Their summary.
     pub summary: RepeatSummary,
     /// Tasks (seeds) without a result yet.
     pub missing: Vec<usize>,
+    /// Whether each run also shifts the node lattice.
+    pub placements: bool,
+}
+
+impl Repeats {
+    /// The seed of run `k` ([`repeat_seed`]).
+    pub fn seed(&self, k: usize) -> u64 {
+        repeat_seed(&self.scene, k, self.placements)
+    }
 }
 
 /// Plans `n` repeats of `scene` (seeds 0..n−1, and lattice placements if `placements`) as a
@@ -209,5 +218,6 @@ pub fn collect_repeats(dir: &Path, manifest: &Manifest<RepeatLayout>) -> Result<
         runs,
         summary,
         missing,
+        placements: manifest.layout.placements,
     })
 }

@@ -267,4 +267,13 @@ fn planned_convergence_and_repeats_collect_to_the_local_runs() {
     let summary = |dir: &PathBuf| std::fs::read_to_string(dir.join("repeat.json")).unwrap();
     assert_eq!(summary(&planned), summary(&local));
     assert!(planned.join("report.html").exists());
+    // The shipped drape starts smooth, so its placements all keep the scene's seed 0, and the
+    // report lists each run with that seed.
+    let report = std::fs::read_to_string(planned.join("report.html")).unwrap();
+    for k in 0..3 {
+        assert!(
+            report.contains(&format!("<tr><td>{k}</td><td>0</td>")),
+            "run {k} not listed with seed 0:\n{report}"
+        );
+    }
 }

@@ -1,4 +1,4 @@
-//! `repeat.png`: each repeat's drape coefficient against its seed, labelled with its node count,
+//! `repeat.png`: each repeat's drape coefficient against its run, labelled with its node count,
 //! over the mean and the band of one sample standard deviation.
 
 use std::path::Path;
@@ -7,14 +7,14 @@ use plotters::prelude::*;
 
 use super::OutputError;
 
-/// Draws `dir/repeat.png` from each run's (DC, nodes), by seed; runs without a DC are left out.
+/// Draws `dir/repeat.png` from each run's (DC, nodes), by run; runs without a DC are left out.
 pub fn write_repeat_plot(dir: &Path, runs: &[(Option<f64>, Option<u32>)]) -> Result<(), OutputError> {
     let path = dir.join("repeat.png");
     let err = |e: &dyn std::fmt::Display| OutputError::new(&path, e);
     let points: Vec<(f64, f64, Option<u32>)> = runs
         .iter()
         .enumerate()
-        .filter_map(|(seed, (dc, nodes))| dc.map(|dc| (seed as f64, dc, *nodes)))
+        .filter_map(|(run, (dc, nodes))| dc.map(|dc| (run as f64, dc, *nodes)))
         .collect();
     let n = points.len() as f64;
     let mean = points.iter().map(|p| p.1).sum::<f64>() / n.max(1.0);
@@ -33,7 +33,7 @@ pub fn write_repeat_plot(dir: &Path, runs: &[(Option<f64>, Option<u32>)]) -> Res
     let last = runs.len().max(1) as f64 - 0.5;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("drape coefficient by seed: {mean:.3} ± {sd:.3}"),
+            format!("drape coefficient by run: {mean:.3} ± {sd:.3}"),
             ("sans-serif", 18),
         )
         .margin(12)
@@ -43,7 +43,7 @@ pub fn write_repeat_plot(dir: &Path, runs: &[(Option<f64>, Option<u32>)]) -> Res
         .map_err(|e| err(&e))?;
     chart
         .configure_mesh()
-        .x_desc("seed")
+        .x_desc("run")
         .y_desc("DC")
         .x_labels(runs.len().clamp(2, 12))
         .x_label_formatter(&|x| format!("{x:.0}"))

@@ -328,14 +328,10 @@ fn scene_fabric_sheet(scene: &Scene) -> Option<String> {
 }
 
 /// Writes `dir/report.html` for `--repeat`: the modal node count and DC's mean and spread, one
-/// row per seed (`runs`: each finished run's seed and metrics), `repeat.png` (DC by seed), the
-/// first seed's pictures and 3D view (from `seed-0/`), and the fabric.
-pub fn write_repeat_report(
-    scene: &Scene,
-    runs: &[(usize, crate::output::Metrics)],
-    summary: &crate::repeat::RepeatSummary,
-    dir: &Path,
-) -> Result<(), OutputError> {
+/// row per run (its seed and lattice shift), `repeat.png` (DC by run), run 0's pictures and 3D
+/// view (from `seed-0/`), and the fabric.
+pub fn write_repeat_report(repeats: &crate::repeat::Repeats, dir: &Path) -> Result<(), OutputError> {
+    let (scene, runs, summary) = (&repeats.scene, &repeats.runs, &repeats.summary);
     let dc = match (summary.dc_mean, summary.dc_std) {
         (Some(m), Some(s)) => format!("{m:.3} ± {s:.3} (mean ± sample standard deviation)"),
         _ => "-".into(),
@@ -353,9 +349,10 @@ pub fn write_repeat_report(
     ];
     let rows = runs
         .iter()
-        .map(|(seed, m)| {
+        .map(|(k, m)| {
             vec![
-                seed.to_string(),
+                k.to_string(),
+                repeats.seed(*k).to_string(),
                 format!(
                     "({:.1}, {:.1})",
                     m.lattice_offset_m[0] * 1e3,
@@ -379,7 +376,7 @@ pub fn write_repeat_report(
         write_repeat_plot(dir, &runs)?;
         pictures.push((
             "repeat.png".to_string(),
-            "DC by seed, node counts beside; the line is the mean, the band one standard deviation"
+            "DC by run, node counts beside; the line is the mean, the band one standard deviation"
                 .to_string(),
         ));
     }
@@ -387,7 +384,7 @@ pub fn write_repeat_report(
         ["top.png", "side.png"]
             .iter()
             .filter(|f| first.join(f).exists())
-            .map(|f| (format!("seed-0/{f}"), format!("seed 0: {f}"))),
+            .map(|f| (format!("seed-0/{f}"), format!("run 0: {f}"))),
     );
     Report {
         title: format!("{}: {} runs", scene.spec.name, summary.runs),
@@ -400,6 +397,7 @@ pub fn write_repeat_report(
         tables: vec![ReportTable {
             caption: "Each run".into(),
             header: [
+                "run",
                 "seed",
                 "lattice shift (mm)",
                 "DC",

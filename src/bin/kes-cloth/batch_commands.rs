@@ -248,7 +248,7 @@ fn repeat_report(dir: &Path, r: &Repeats) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&r.summary).map_err(|e| e.to_string())?;
     std::fs::write(&path, text + "\n").map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     if r.scene.spec.output.report {
-        kes_cloth::run::write_repeat_report(&r.scene, &r.runs, &r.summary, dir).map_err(|e| e.to_string())?;
+        kes_cloth::run::write_repeat_report(r, dir).map_err(|e| e.to_string())?;
     }
     Ok(())
 }
@@ -256,7 +256,7 @@ fn repeat_report(dir: &Path, r: &Repeats) -> Result<(), String> {
 /// One line per run and the summary.
 fn print_repeats(r: &Repeats, placements: bool) {
     for (k, m) in &r.runs {
-        let seed = kes_cloth::repeat::repeat_seed(&r.scene, *k, placements);
+        let seed = r.seed(*k);
         let dc = m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}"));
         let nodes = m.nodes.map_or("-".into(), |v| v.to_string());
         let settled = if m.settled {
