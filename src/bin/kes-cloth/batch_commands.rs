@@ -233,7 +233,7 @@ pub fn repeat(scene: &Scene, n: usize, placements: bool, at: &BatchArgs, quiet: 
         return fail(&e);
     }
     if !quiet {
-        print_repeats(&repeats, placements);
+        print_repeats(&repeats);
         println!("  wrote {}", dir.display());
     }
     match repeats.runs.iter().find_map(|(_, m)| m.failure.clone()) {
@@ -254,7 +254,7 @@ fn repeat_report(dir: &Path, r: &Repeats) -> Result<(), String> {
 }
 
 /// One line per run and the summary.
-fn print_repeats(r: &Repeats, placements: bool) {
+fn print_repeats(r: &Repeats) {
     for (k, m) in &r.runs {
         let seed = r.seed(*k);
         let dc = m.drape_coefficient.map_or("-".into(), |v| format!("{v:.3}"));
@@ -265,7 +265,7 @@ fn print_repeats(r: &Repeats, placements: bool) {
             "NOT settled".into()
         };
         let [ou, ov] = m.lattice_offset_m;
-        let lattice = if placements {
+        let lattice = if r.placements {
             format!(", lattice shifted ({:.1}, {:.1}) mm", ou * 1e3, ov * 1e3)
         } else {
             String::new()
