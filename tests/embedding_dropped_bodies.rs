@@ -3,11 +3,9 @@
 //! balls from 2 g to ten times its own mass, thrown down at 5 and 15 m/s, and everything comes
 //! to rest: no failure, no node or body below the floor.
 
-use bevy_ecs::prelude::*;
 use glam::DVec3;
-use kes_cloth::embed::{ClothBuilder, ClothOutline, install, prepare_world, spawn_cloth};
-use kes_cloth::scene::SettleSpec;
-use kes_cloth::schedule::{ClothState, Failure, Physics};
+use kes_cloth::embed::{ClothBuilder, ClothOutline, prepare_world};
+use kes_cloth::schedule::Physics;
 use rapier3d::prelude::*;
 
 mod common;
@@ -218,7 +216,6 @@ fn bodies_dropped_onto_a_cloth_on_a_floor_are_caught_and_come_to_rest_at_the_hos
 fn in_a_bevy_schedule_dropped_bodies_and_the_cloth_move_exactly_as_with_kes_cloth_step() {
     let hz = 60.0;
     let (settle, after) = ((0.25 * hz) as usize, (0.5 * hz) as usize);
-    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
 
     let mut plain = floor_world(hz);
     let mut cloth = floor_cloth("thin_wool", false).build(&mut plain).expect("builds");
@@ -233,15 +230,10 @@ fn in_a_bevy_schedule_dropped_bodies_and_the_cloth_move_exactly_as_with_kes_clot
     }
 
     let mut physics = floor_world(hz);
-    let dt = physics.integration_parameters.dt as f64;
     let parts = floor_cloth("thin_wool", false)
         .build_parts(&mut physics)
         .expect("builds");
-    let mut world = World::new();
-    let entity = spawn_cloth(&mut world, parts);
-    kes_cloth::scene::spawn::insert_resources(&mut world, physics, dt, &SettleSpec::default());
-    let mut schedule = Schedule::default();
-    install(&mut schedule);
+    let (mut world, mut schedule, entity) = common::host_schedule(physics, parts);
     for _ in 0..settle {
         schedule.run(&mut world);
     }
@@ -253,26 +245,7 @@ fn in_a_bevy_schedule_dropped_bodies_and_the_cloth_move_exactly_as_with_kes_clot
     for _ in 0..after {
         schedule.run(&mut world);
     }
-    assert_eq!(world.resource::<Failure>().0, None);
-
-    let state = world.get::<ClothState>(entity).expect("the cloth");
-    assert!(
-        state
-            .positions
-            .iter()
-            .map(|p| bits(*p))
-            .eq(cloth.positions().iter().map(|p| bits(*p))),
-        "the cloth's nodes differ between the two ways in"
-    );
-    let bodies = &world.resource::<Physics>().0.bodies;
-    for h in &handles {
-        let (a, b) = (plain.bodies[*h].translation(), bodies[*h].translation());
-        assert_eq!(
-            a.to_array().map(f32::to_bits),
-            b.to_array().map(f32::to_bits),
-            "a body differs: {a:?} against {b:?}"
-        );
-    }
+    common::assert_same_as_plain(&world, entity, &cloth, &plain, &handles);
     // And the bodies were caught: none below the floor's top by more than Rapier's allowed error.
     let lowest = handles
         .iter()

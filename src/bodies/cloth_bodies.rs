@@ -46,6 +46,10 @@ pub struct ClothBodies {
     /// Nodes pinned to a kinematic body: (node, body, anchor in the body's frame, m). The
     /// implicit solve moves each with its pin ([`Self::read_pin_velocities`]).
     pub moving_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
+    /// Nodes pinned to a dynamic body: (node, body, anchor in the body's frame, m). The
+    /// implicit solve moves each with its body, which shares its mass with them
+    /// ([`Self::read_body_shares`]).
+    pub dynamic_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
     /// [`NodeOptions::surface_depth`] (m).
     pub surface_depth: f64,
 }
@@ -114,6 +118,7 @@ impl ClothBodies {
             joints,
             masses: options.masses.clone(),
             moving_pins: Vec::new(),
+            dynamic_pins: Vec::new(),
             surface_depth,
         }
     }
@@ -179,6 +184,7 @@ impl ClothBodies {
             pushed,
             touching,
             friction,
+            ..
         } = supports;
         for (((h, n), touch), mu) in self
             .handles
@@ -193,41 +199,34 @@ impl ClothBodies {
             };
             let mut deepest = f32::INFINITY;
             let mut touching_friction = 0.0;
-            for &node_collider in body.colliders() {
-                for pair in world.contact_pairs_with(node_collider) {
-                    let (other, node_first) = if pair.collider1 == node_collider {
-                        (pair.collider2, true)
-                    } else {
-                        (pair.collider1, false)
-                    };
-                    let Some(surface) = world.colliders.get(other) else {
-                        continue;
-                    };
-                    let support = surface
-                        .parent()
-                        .and_then(|b| world.bodies.get(b))
-                        .is_none_or(|b| !b.is_dynamic());
-                    if !support {
-                        continue;
-                    }
-                    for manifold in pair.manifolds() {
-                        // The manifold normal points from collider 1 to collider 2.
-                        let normal = manifold.data.normal.as_dvec3();
-                        let towards_node = if node_first { -normal } else { normal };
-                        for point in &manifold.points {
-                            let dist = point.dist + depth;
-                            if dist <= nearest {
-                                nearest = dist;
-                                *touch = towards_node;
-                                touching_friction = surface.friction() as f64;
-                            }
-                            if point.data.impulse > 0.0 && dist <= deepest {
-                                deepest = dist;
-                                *n = towards_node;
-                                // Nodes have friction 0 and world colliders the Max rule, so
-                                // the surface's own coefficient is the pair's.
-                                *mu = surface.friction() as f64;
-                            }
+            for (pair, other, node_first) in body_pairs(world, body) {
+                let Some(surface) = world.colliders.get(other) else {
+                    continue;
+                };
+                let support = surface
+                    .parent()
+                    .and_then(|b| world.bodies.get(b))
+                    .is_none_or(|b| !b.is_dynamic());
+                if !support {
+                    continue;
+                }
+                for manifold in pair.manifolds() {
+                    // The manifold normal points from collider 1 to collider 2.
+                    let normal = manifold.data.normal.as_dvec3();
+                    let towards_node = if node_first { -normal } else { normal };
+                    for point in &manifold.points {
+                        let dist = point.dist + depth;
+                        if dist <= nearest {
+                            nearest = dist;
+                            *touch = towards_node;
+                            touching_friction = surface.friction() as f64;
+                        }
+                        if point.data.impulse > 0.0 && dist <= deepest {
+                            deepest = dist;
+                            *n = towards_node;
+                            // Nodes have friction 0 and world colliders the Max rule, so
+                            // the surface's own coefficient is the pair's.
+                            *mu = surface.friction() as f64;
                         }
                     }
                 }
@@ -273,46 +272,42 @@ impl ClothBodies {
         }
     }
 
-    /// The force (N) each node received from the host's dynamic bodies over Rapier's last step:
-    /// the normal impulses of their contacts over the step `dt` (s), pushing the node away from
-    /// the body. Friction between a body and the cloth acts on the body but is not handed back.
+    /// The force (N) each node backed by a support ([`Self::back_supported_nodes`]) received
+    /// from the host's dynamic bodies over Rapier's last step: the normal impulses of their
+    /// contacts over the step `dt` (s), pushing the node away from the body, which Rapier did
+    /// not apply to a node it held immovable. Any other node took its impulses in Rapier's
+    /// step (zero here). Friction between a body and the cloth acts on the body but is not
+    /// handed back.
     pub fn read_body_loads(&self, world: &PhysicsWorld, dt: f64, loads: &mut Vec<DVec3>) {
         loads.clear();
         loads.resize(self.handles.len(), DVec3::ZERO);
         for (h, load) in self.handles.iter().zip(loads.iter_mut()) {
-            let Some(body) = world.bodies.get(*h) else {
+            // A node not backed by a support took the bodies' impulses in Rapier's step itself.
+            let Some(body) = world.bodies.get(*h).filter(|b| b.dominance_group() > 0) else {
                 continue;
             };
-            for &node_collider in body.colliders() {
-                for pair in world.contact_pairs_with(node_collider) {
-                    let node_first = pair.collider1 == node_collider;
-                    let other = if node_first {
-                        pair.collider2
-                    } else {
-                        pair.collider1
-                    };
-                    let pushing_body = world
-                        .colliders
-                        .get(other)
-                        .and_then(|c| c.parent())
-                        .and_then(|b| world.bodies.get(b))
-                        .is_some_and(|b| b.is_dynamic() && !self.is_node(b));
-                    if !pushing_body {
-                        continue;
-                    }
-                    for manifold in pair.manifolds() {
-                        // The normal points from collider 1 to collider 2.
-                        let away = manifold.data.normal.as_dvec3() * if node_first { -1.0 } else { 1.0 };
-                        let impulse: f64 = manifold.points.iter().map(|p| p.data.impulse as f64).sum();
-                        *load += away * (impulse / dt);
-                    }
+            for (pair, other, node_first) in body_pairs(world, body) {
+                let pushing_body = world
+                    .colliders
+                    .get(other)
+                    .and_then(|c| c.parent())
+                    .and_then(|b| world.bodies.get(b))
+                    .is_some_and(|b| b.is_dynamic() && !self.is_node(b));
+                if !pushing_body {
+                    continue;
+                }
+                for manifold in pair.manifolds() {
+                    // The normal points from collider 1 to collider 2.
+                    let away = manifold.data.normal.as_dvec3() * if node_first { -1.0 } else { 1.0 };
+                    let impulse: f64 = manifold.points.iter().map(|p| p.data.impulse as f64).sum();
+                    *load += away * (impulse / dt);
                 }
             }
         }
     }
 
     /// Whether `body` is a cloth node (of any cloth): nodes carry a surface normal.
-    fn is_node(&self, body: &RigidBody) -> bool {
+    pub(super) fn is_node(&self, body: &RigidBody) -> bool {
         super::sheet_contacts::is_node(body)
     }
 
@@ -331,6 +326,21 @@ impl ClothBodies {
             }
         }
     }
+}
+
+/// Every contact pair of `body`'s colliders: the pair, the collider on its other side, and
+/// whether `body`'s collider is the pair's first (a manifold's normal points from the first
+/// collider to the second).
+pub(super) fn body_pairs<'w>(
+    world: &'w PhysicsWorld,
+    body: &'w RigidBody,
+) -> impl Iterator<Item = (&'w ContactPair, ColliderHandle, bool)> + 'w {
+    body.colliders().iter().flat_map(move |&c| {
+        world.contact_pairs_with(c).map(move |pair| {
+            let first = pair.collider1 == c;
+            (pair, if first { pair.collider2 } else { pair.collider1 }, first)
+        })
+    })
 }
 
 /// Contact distance (m) within which a node still touches a surface: a node the implicit solve

@@ -7,11 +7,13 @@
 //! Everything else in kes-cloth talks to nodes through [`ClothBodies`], so the choice can change
 //! here alone.
 
+mod carriers;
 mod cloth_bodies;
 mod sheet_contacts;
 mod world_colliders;
 mod world_settings;
 
+pub use carriers::CarrierMemory;
 pub use cloth_bodies::{ClothBodies, NodeOptions, TOUCH_DISTANCE};
 pub use sheet_contacts::SheetContacts;
 pub(crate) use sheet_contacts::{encode_normal, encode_surface_depth, sheet_normals};

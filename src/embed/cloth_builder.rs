@@ -529,8 +529,10 @@ impl ClothBuilder {
         let mut bodies = ClothBodies::spawn(world, &topology, &positions, &options);
         for pin in &self.pins {
             if let Some(node) = topology.grid_coords.iter().position(|&c| c == pin.node) {
-                if world.bodies.get(pin.body).is_some_and(|b| b.is_kinematic()) {
-                    bodies.moving_pins.push((node, pin.body, pin.anchor));
+                match world.bodies.get(pin.body) {
+                    Some(b) if b.is_kinematic() => bodies.moving_pins.push((node, pin.body, pin.anchor)),
+                    Some(b) if b.is_dynamic() => bodies.dynamic_pins.push((node, pin.body, pin.anchor)),
+                    _ => {}
                 }
                 let joint = SphericalJointBuilder::new()
                     .local_anchor1(pin.anchor)
@@ -550,9 +552,10 @@ impl ClothBuilder {
             implicit: match integrator {
                 Integrator::Explicit => None,
                 Integrator::Implicit(settings) => {
-                    // The held nodes stay put in the implicit solve too.
+                    // The held nodes stay put in the implicit solve too; a node pinned to a
+                    // dynamic body moves with it there (`implicit::Carriers`).
                     let mut solver = ImplicitSolver::with_masses(topology.clone(), masses, settings);
-                    for node in held {
+                    for node in held.into_iter().chain(bodies.dynamic_pins.iter().map(|p| p.0)) {
                         solver.hold(node);
                     }
                     // Friction in the solve needs every force on a node in the solve: Rapier's

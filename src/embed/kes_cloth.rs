@@ -4,7 +4,7 @@ use glam::DVec3;
 use rapier3d::prelude::PhysicsWorld;
 
 use super::{ClothParts, StepError};
-use crate::bodies::SheetContacts;
+use crate::bodies::{CarrierMemory, SheetContacts};
 use crate::measure::{
     Motion, is_runaway, non_finite_force, non_finite_solve_message, non_finite_state,
     non_finite_state_message, runaway_message,
@@ -33,6 +33,8 @@ pub struct KesCloth {
     body_loads: Vec<DVec3>,
     /// Scratch space for the nodes' surface normals.
     normals: Vec<DVec3>,
+    /// The host's dynamic bodies solved with the cloth in the last step.
+    carriers: CarrierMemory,
 }
 
 impl KesCloth {
@@ -46,6 +48,7 @@ impl KesCloth {
             motion: Motion::default(),
             body_loads: Vec::new(),
             normals: Vec::new(),
+            carriers: CarrierMemory::default(),
         }
     }
 
@@ -83,6 +86,7 @@ impl KesCloth {
             let h = world.integration_parameters.dt as f64;
             p.bodies
                 .read_pin_velocities(world, h, &mut implicit.pin_velocities);
+            p.bodies.read_carriers(world, implicit, &mut self.carriers);
             let forces = &mut state.forces.particle;
             let g = p.bodies.gravity(world);
             let generators: Vec<_> = p.effects.iter().map(Some).collect();
@@ -94,6 +98,9 @@ impl KesCloth {
         }
         let p = &mut self.parts;
         p.bodies.write_forces(world, &p.state.forces.particle);
+        if let Some(implicit) = &p.implicit {
+            p.bodies.move_carriers(world, &implicit.carriers, &self.carriers);
+        }
         p.bodies
             .write_sheet_normals(world, &p.state.topology, &p.state.positions, &mut self.normals);
         Ok(())

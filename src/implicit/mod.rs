@@ -35,9 +35,11 @@
 //! BDF2's kick (`scheme.rs`).
 //!
 //! Only our forces, gravity and (optionally) the supports' friction are implicit; Rapier still
-//! treats joints and contact its own way.
+//! treats joints and contact its own way, except that a host's dynamic body touching the cloth
+//! or pinning it is solved with it as a rigid body ([`Carriers`]).
 //! The derivation, the clamp and the numerical damping it adds are in `docs/model.md` §12.
 
+mod carriers;
 mod coarse_grid;
 mod conjugate_gradient;
 mod implicit_solver;
@@ -48,6 +50,7 @@ mod sparse_cholesky;
 mod supports;
 mod thread_lines;
 
+pub use carriers::{Carrier, Carriers, Twist};
 pub use coarse_grid::CoarseGrid;
 pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 pub use implicit_solver::ImplicitSolver;

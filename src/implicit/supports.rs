@@ -1,9 +1,10 @@
-//! What the implicit solve knows about the fixed surfaces under the cloth, read from Rapier.
+//! What the implicit solve knows about the surfaces under the cloth, read from Rapier.
 
 use glam::DVec3;
 
-/// Per node, the fixed or kinematic surfaces Rapier's last step found under it. Filled by
-/// [`crate::bodies::ClothBodies::read_supports`] before each [`super::ImplicitSolver::solve`].
+/// Per node, the fixed or kinematic surfaces Rapier's last step found under it, filled by
+/// [`crate::bodies::ClothBodies::read_supports`] before each [`super::ImplicitSolver::solve`],
+/// and in a host's world the dynamic bodies carrying it ([`super::Carriers`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Supports {
     /// Unit normal (towards the node) of the surface that pushed the node in Rapier's last
@@ -16,6 +17,9 @@ pub struct Supports {
     /// Coulomb friction coefficient μ (dimensionless) between the node and the surface in
     /// [`Self::pushed`], or, where none pushed, the one in [`Self::touching`]; 0 if neither.
     pub friction: Vec<f64>,
+    /// Velocity (m/s) of the surface in [`Self::pushed`] at the node: a carrier's
+    /// ([`super::Carriers`]); zero for a fixed or kinematic collider.
+    pub velocity: Vec<DVec3>,
 }
 
 impl Supports {
@@ -25,12 +29,13 @@ impl Supports {
             pushed: vec![DVec3::ZERO; n],
             touching: vec![DVec3::ZERO; n],
             friction: vec![0.0; n],
+            velocity: vec![DVec3::ZERO; n],
         }
     }
 
     /// Sizes the lists for `n` nodes and clears them.
     pub fn clear(&mut self, n: usize) {
-        for list in [&mut self.pushed, &mut self.touching] {
+        for list in [&mut self.pushed, &mut self.touching, &mut self.velocity] {
             list.clear();
             list.resize(n, DVec3::ZERO);
         }

@@ -67,6 +67,9 @@ pub struct HostContacts {
     pub loads: Vec<glam::DVec3>,
     /// Scratch space for the nodes' surface normals.
     pub normals: Vec<glam::DVec3>,
+    /// The host's dynamic bodies solved with the cloth in the last step
+    /// ([`crate::bodies::ClothBodies::read_carriers`]).
+    pub carriers: crate::bodies::CarrierMemory,
 }
 
 /// The effects a cloth carries (see [`crate::forces::Effects`]): only these run.

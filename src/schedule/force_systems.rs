@@ -88,7 +88,7 @@ pub fn solve_implicit(
         &mut Implicit,
         &ClothNodes,
         &ClothEffects,
-        Has<HostContacts>,
+        Option<&mut HostContacts>,
     )>,
 ) {
     if failure.0.is_some() {
@@ -98,12 +98,15 @@ pub fn solve_implicit(
         let start = Instant::now();
         let solver = &mut implicit.0;
         nodes.0.read_supports(&physics.0, &mut solver.supports);
-        if host {
+        if host.is_some() {
             nodes.0.back_supported_nodes(&mut physics.0, &solver.supports);
         }
         nodes
             .0
             .read_pin_velocities(&physics.0, clock.dt, &mut solver.pin_velocities);
+        if let Some(mut host) = host {
+            nodes.0.read_carriers(&physics.0, solver, &mut host.carriers);
+        }
         let state = &mut *state;
         let generators: Vec<_> = effects.0.iter().map(Some).collect();
         let forces = &mut state.forces.particle;
@@ -134,14 +137,24 @@ pub fn solve_implicit(
 pub fn push_forces(
     mut physics: ResMut<Physics>,
     failure: Res<Failure>,
-    mut cloths: Query<(&ClothNodes, &ClothState, Option<&mut HostContacts>)>,
+    mut cloths: Query<(
+        &ClothNodes,
+        &ClothState,
+        Option<&mut HostContacts>,
+        Option<&Implicit>,
+    )>,
 ) {
     if failure.0.is_some() {
         return;
     }
-    for (nodes, state, host) in &mut cloths {
+    for (nodes, state, host, implicit) in &mut cloths {
         nodes.0.write_forces(&mut physics.0, &state.forces.particle);
         if let Some(mut host) = host {
+            if let Some(implicit) = implicit {
+                nodes
+                    .0
+                    .move_carriers(&mut physics.0, &implicit.0.carriers, &host.carriers);
+            }
             nodes.0.write_sheet_normals(
                 &mut physics.0,
                 &state.topology,

@@ -210,3 +210,58 @@ pub const CANTILEVER_STUDY: [&str; 6] = [
     "--reference",
     "cloth.spacing_m=0.0025",
 ];
+
+/// A bevy_ecs world holding `parts` (built into `physics`) as a host's cloth, and the crate's
+/// schedule to step it (`embed::spawn_cloth`, `embed::install`); returns the world, the
+/// schedule and the cloth's entity.
+pub fn host_schedule(
+    physics: rapier3d::prelude::PhysicsWorld,
+    parts: kes_cloth::embed::ClothParts,
+) -> (
+    bevy_ecs::world::World,
+    bevy_ecs::schedule::Schedule,
+    bevy_ecs::entity::Entity,
+) {
+    let dt = physics.integration_parameters.dt as f64;
+    let mut world = bevy_ecs::world::World::new();
+    let entity = kes_cloth::embed::spawn_cloth(&mut world, parts);
+    let settle = kes_cloth::scene::SettleSpec::default();
+    kes_cloth::scene::spawn::insert_resources(&mut world, physics, dt, &settle);
+    let mut schedule = bevy_ecs::schedule::Schedule::default();
+    kes_cloth::embed::install(&mut schedule);
+    (world, schedule, entity)
+}
+
+/// Whether two lists of positions are equal to the bit.
+pub fn same_bits(a: &[DVec3], b: &[DVec3]) -> bool {
+    let bits = |v: &DVec3| v.to_array().map(f64::to_bits);
+    a.len() == b.len() && a.iter().map(bits).eq(b.iter().map(bits))
+}
+
+/// Asserts that the host's bevy_ecs `world` ended exactly where the plain loop did: no failure,
+/// the cloth `entity`'s nodes equal to `cloth`'s to the bit, and each of `bodies` at the same
+/// position in the schedule's physics as in `plain`.
+pub fn assert_same_as_plain(
+    world: &bevy_ecs::world::World,
+    entity: bevy_ecs::entity::Entity,
+    cloth: &kes_cloth::embed::KesCloth,
+    plain: &rapier3d::prelude::PhysicsWorld,
+    bodies: &[rapier3d::prelude::RigidBodyHandle],
+) {
+    use kes_cloth::schedule::{ClothState, Failure, Physics};
+    assert_eq!(world.resource::<Failure>().0, None);
+    let state = world.get::<ClothState>(entity).expect("the cloth");
+    assert!(
+        same_bits(&state.positions, cloth.positions()),
+        "the cloth's nodes differ between the two ways in"
+    );
+    let stepped = &world.resource::<Physics>().0.bodies;
+    for h in bodies {
+        let (a, b) = (plain.bodies[*h].translation(), stepped[*h].translation());
+        assert_eq!(
+            a.to_array().map(f32::to_bits),
+            b.to_array().map(f32::to_bits),
+            "a body differs: {a:?} against {b:?}"
+        );
+    }
+}

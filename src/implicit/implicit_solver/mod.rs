@@ -1,6 +1,7 @@
 //! One linearly implicit velocity solve per step (backward Euler or BDF2), on the matrix
 //! assembled for that step.
 
+mod coupling;
 mod friction_start;
 mod saved_state;
 mod vectors;
@@ -9,6 +10,7 @@ use std::sync::Arc;
 
 use glam::{DMat3, DVec3};
 
+use super::carriers::Carriers;
 use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 use super::preconditioner::{Active, Preconditioner};
@@ -21,6 +23,7 @@ use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
     outer,
 };
+use coupling::Coupling;
 use vectors::{filter, tangential, total_mass};
 
 /// The implicit solve of one cloth: settings, node mass, warm start and scratch buffers.
@@ -48,6 +51,12 @@ pub struct ImplicitSolver {
     /// The fixed surfaces under the nodes in Rapier's last step. Set before each
     /// [`Self::solve`] (e.g. by [`crate::bodies::ClothBodies::read_supports`]).
     pub supports: Supports,
+    /// The host's dynamic bodies solved with the cloth ([`Carriers`]), and their velocity
+    /// changes after a solve. Set before each [`Self::solve`] (e.g. by
+    /// [`crate::bodies::ClothBodies::read_carriers`]); empty for a cloth alone.
+    pub carriers: Carriers,
+    /// Each node's velocity with its body's motion spread in (scratch of the coupled products).
+    expanded: Vec<DVec3>,
     /// Whether the solve applies the supports' Coulomb friction (see [`Self::apply_friction`];
     /// default off).
     friction: bool,
@@ -130,6 +139,8 @@ impl ImplicitSolver {
             preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: Supports::new(n),
+            carriers: Carriers::new(n),
+            expanded: vec![DVec3::ZERO; n],
             friction: false,
             fixed: vec![false; n],
             diagonal: vec![DMat3::ZERO; n],
@@ -314,6 +325,17 @@ impl ImplicitSolver {
         let mut report = CgReport::default();
         let next_step = self.settings.friction_release == FrictionRelease::NextStep;
         let passes = if next_step { 1 } else { FRICTION_PASSES };
+        // A carrier's node at a pin of another body (held) is that pin's, not the carrier's.
+        let (held, pinned) = (&self.held, &self.carriers.pinned);
+        let mut coupling = Coupling::new(&self.carriers, |i| !held[i] || pinned.get(i) == Some(&true));
+        let len = n + coupling.slots();
+        for v in [&mut self.rhs, &mut self.dv]
+            .into_iter()
+            .chain(self.scratch.iter_mut())
+        {
+            v.resize(len, DVec3::ZERO);
+        }
+        let mut changes = Vec::new();
         for pass in 0..passes {
             // Supported nodes: our Δv has no component along the support normal (Baraff &
             // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
@@ -326,6 +348,8 @@ impl ImplicitSolver {
             let mut any_prescribed = false;
             for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
                 let n = normals[i];
+                // Relative to the surface, which a carrier moves.
+                let surface = self.supports.velocity[i];
                 *z = if self.held[i] {
                     self.pin_velocities
                         .get(i)
@@ -335,14 +359,15 @@ impl ImplicitSolver {
                 } else if !self.friction || n == DVec3::ZERO {
                     DVec3::ZERO
                 } else if self.fixed[i] {
-                    -*v
+                    surface - *v
                 } else {
-                    tangential(n, *v) - *v
+                    tangential(n, *v - surface) - (*v - surface)
                 };
                 any_prescribed |= *z != DVec3::ZERO;
             }
             // A sliding node's drag: −c·(v + Δv) along the surface, the −c·v part known.
             let drag = |i: usize, v: DVec3| self.sliding_drag[i] * tangential(normals[i], v);
+            let surface = &self.supports.velocity;
             for (i, ((b, u), v)) in self
                 .rhs
                 .iter_mut()
@@ -350,7 +375,7 @@ impl ImplicitSolver {
                 .zip(velocities)
                 .enumerate()
             {
-                *b = *u - drag(i, *v);
+                *b = *u - drag(i, *v - surface[i]);
             }
             if any_prescribed {
                 rows.product(&self.prescribed, ax);
@@ -364,10 +389,13 @@ impl ImplicitSolver {
                     *b -= *m * *z + *az;
                 }
             }
-            for (i, b) in self.rhs.iter_mut().enumerate() {
+            // The carriers' rows take what the filter leaves out of their nodes' rows.
+            let (nodes_rhs, bodies_rhs) = self.rhs.split_at_mut(n);
+            coupling.right_hand_side(nodes_rhs, hs, filter, bodies_rhs);
+            for (i, b) in nodes_rhs.iter_mut().enumerate() {
                 *b = filter(i, *b);
             }
-            for (i, dv) in self.dv.iter_mut().enumerate() {
+            for (i, dv) in self.dv[..n].iter_mut().enumerate() {
                 *dv = filter(i, *dv);
             }
             // The preconditioner: a sparse Cholesky factor of the filtered system, refactored
@@ -442,6 +470,7 @@ impl ImplicitSolver {
                     };
                 }
             }
+            coupling.factor(&self.diagonal, &self.projection);
             self.stats.preconditioner_s += preconditioner_start.elapsed().as_secs_f64();
             let (cholesky, lines, preconditioner) =
                 (&mut self.cholesky, &mut self.lines, &self.preconditioner);
@@ -449,14 +478,35 @@ impl ImplicitSolver {
                 Preconditioner::TwoLevel { .. } => self.coarse.as_mut().filter(|c| c.is_factored()),
                 _ => None,
             };
+            let expanded = &mut self.expanded;
+            let coupling = &coupling;
             let apply = |x: &[DVec3], out: &mut [DVec3]| {
+                if coupling.slots() == 0 {
+                    rows.product(x, out);
+                    for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
+                        *o = filter(i, masses[i] * *x + *o + drag(i, *x));
+                    }
+                    return;
+                }
+                let (x, x_bodies) = x.split_at(n);
+                let (out, out_bodies) = out.split_at_mut(n);
+                expanded.copy_from_slice(x);
+                coupling.spread(x_bodies, filter, expanded);
+                let x = &expanded[..];
                 rows.product(x, out);
                 for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
-                    *o = filter(i, masses[i] * *x + *o + drag(i, *x));
+                    *o = masses[i] * *x + *o + drag(i, *x);
+                }
+                coupling.gather(out, x_bodies, filter, out_bodies);
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = filter(i, *o);
                 }
             };
             let mut coarse = coarse;
             let precondition = |r: &[DVec3], z: &mut [DVec3]| {
+                let (r, r_bodies) = r.split_at(n);
+                let (z, z_bodies) = z.split_at_mut(n);
+                coupling.precondition(r_bodies, z_bodies);
                 match (active, cholesky.as_mut(), lines.as_mut()) {
                     (Active::Cholesky, Some(factor), _) => factor.solve(r, z),
                     (Active::Lines, _, Some(lines)) => lines.solve(r, z),
@@ -483,6 +533,8 @@ impl ImplicitSolver {
                 conjugate_gradient(apply, precondition, &self.rhs, &mut self.dv, (r, z, p, ap), stop);
             self.stats.cg_s += cg_start.elapsed().as_secs_f64();
             self.last_products = this_pass.iterations;
+            let (dv, dv_bodies) = self.dv.split_at_mut(n);
+            changes = coupling.finish(dv_bodies, filter, dv);
             report = CgReport {
                 iterations: report.iterations + this_pass.iterations,
                 ..this_pass
@@ -497,7 +549,7 @@ impl ImplicitSolver {
                 self.pressed.fill(false);
                 break;
             }
-            rows.product(&self.dv, ax);
+            rows.product(&self.dv[..n], ax);
             // The last pass only judges the supports: a release there could not be solved (with
             // NextStep, the one pass marks it for the next step).
             let may_release = pass + 1 < passes;
@@ -539,6 +591,18 @@ impl ImplicitSolver {
             }
             self.stats.repeated += 1;
         }
+        self.dv.truncate(n);
+        // What the held carriers' constraints took, from the impulses A·Δv − b their surfaces
+        // gave their nodes.
+        let held = if coupling.any_held() {
+            rows.product(&self.dv, ax);
+            let (dv, rhs) = (&self.dv, &self.unfiltered_rhs);
+            coupling.held_impulses(&changes, hs, |i| masses[i] * dv[i] + ax[i] - rhs[i])
+        } else {
+            Vec::new()
+        };
+        self.carriers.changes = changes;
+        self.carriers.held_impulses = held;
         // The kick leaves out the gravity Rapier adds back, except what pulls a pinned node (the
         // pin takes that) and, without friction in the solve, what presses a node onto its
         // support (Rapier's contact takes that, and bounds its friction by it). With friction in
@@ -547,7 +611,9 @@ impl ImplicitSolver {
         for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
             let (n, m) = (normals[i], masses[i]);
             let weight = m * gravity;
-            let carried = if self.friction && n != DVec3::ZERO && !self.held[i] {
+            // A node pinned to a carrier: the solve's pin (the carrier) carried its weight.
+            let carried_by_pin = self.carriers.pinned.get(i) == Some(&true);
+            let carried = if (self.friction && n != DVec3::ZERO && !self.held[i]) || carried_by_pin {
                 weight
             } else {
                 filter(n, self.held[i], weight)
