@@ -28,7 +28,9 @@ impl ClothBodies {
     ///   step), or will reach it within the step at their present velocities, or pushed it in
     ///   the last solve (`pressed`) and is still in contact with it, is supported by
     ///   that body (the nearest, if several): `supports` gets the contact's normal, the body
-    ///   collider's friction coefficient and the body's velocity at the node.
+    ///   collider's friction coefficient and the body's velocity at the node. Only with
+    ///   friction in the solve (the KES tensile law; with rope joints Rapier's contact carries
+    ///   a supported node's weight and friction, and a body's contacts stay Rapier's).
     ///
     /// Each body brings its weight, and the constraints that held it in Rapier's last step: the
     /// normal of every contact with a collider that is not a node and pushed it, and the three
@@ -41,6 +43,9 @@ impl ClothBodies {
     ) {
         let dt = world.integration_parameters.dt as f64;
         let pressed = solver.pressed().to_vec();
+        // Without friction in the solve (rope joints), Rapier's contact carries a supported
+        // node's weight and friction: a body's contacts with the cloth stay Rapier's.
+        let contacts = solver.has_friction();
         let ImplicitSolver {
             supports,
             pin_velocities,
@@ -73,7 +78,7 @@ impl ClothBodies {
         }
         for (i, h) in self.handles.iter().enumerate() {
             let supported = supports.pushed[i] != DVec3::ZERO || supports.touching[i] != DVec3::ZERO;
-            if supported || carriers.pinned[i] {
+            if supported || carriers.pinned[i] || !contacts {
                 continue;
             }
             let Some(node) = world.bodies.get(*h) else {
@@ -263,7 +268,10 @@ impl ClothBodies {
             };
             let [v, w] = carrier.velocity;
             body.set_linvel((v + *dv).as_vec3() - gravity * body.gravity_scale() * dt, true);
-            body.set_angvel((w + *dw).as_vec3(), true);
+            // A body with a locked rotation axis is solved without turning: its spin is Rapier's.
+            if carrier.inertia != DMat3::ZERO {
+                body.set_angvel((w + *dw).as_vec3(), true);
+            }
             if let Some([j, t]) = carriers.held_impulses.get(k) {
                 body.apply_impulse(j.as_vec3(), true);
                 body.apply_torque_impulse(t.as_vec3(), true);

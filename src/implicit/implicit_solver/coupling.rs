@@ -24,12 +24,15 @@ pub(super) struct Coupling<'a> {
     /// Inverse of each body slot's diagonal block (ΔV, then Δω, per body; zero for the spin of
     /// a body that cannot turn).
     inverse: Vec<DMat3>,
+    /// The scheme's step over Rapier's (1 for backward Euler, 2/3 for BDF2): the body's rows,
+    /// backward Euler's over Rapier's step, are scaled by it to match the nodes'.
+    scale: f64,
 }
 
 impl<'a> Coupling<'a> {
-    /// The coupling of `carriers` (nodes whose body index is out of range, or for which
-    /// `keep` is false, are left out).
-    pub fn new(carriers: &'a Carriers, keep: impl Fn(usize) -> bool) -> Self {
+    /// The coupling of `carriers` with the scheme's step over Rapier's, `scale` (nodes whose
+    /// body index is out of range, or for which `keep` is false, are left out).
+    pub fn new(carriers: &'a Carriers, scale: f64, keep: impl Fn(usize) -> bool) -> Self {
         let bodies = carriers.bodies.len();
         let pairs = carriers
             .of_node
@@ -42,6 +45,7 @@ impl<'a> Coupling<'a> {
             carriers,
             pairs,
             inverse: vec![DMat3::ZERO; 2 * bodies],
+            scale,
         }
     }
 
@@ -74,7 +78,8 @@ impl<'a> Coupling<'a> {
         out: &mut [DVec3],
     ) {
         for (k, body) in self.carriers.bodies.iter().enumerate() {
-            [out[2 * k], out[2 * k + 1]] = body.momentum([x[2 * k], x[2 * k + 1]]);
+            let [v, w] = body.momentum([x[2 * k], x[2 * k + 1]]);
+            [out[2 * k], out[2 * k + 1]] = [self.scale * v, self.scale * w];
         }
         self.add_rows(y, filter, out);
     }
@@ -119,7 +124,12 @@ impl<'a> Coupling<'a> {
             .carriers
             .bodies
             .iter()
-            .flat_map(|body| [DMat3::from_diagonal(DVec3::splat(body.mass)), body.inertia])
+            .flat_map(|body| {
+                [
+                    DMat3::from_diagonal(DVec3::splat(self.scale * body.mass)),
+                    self.scale * body.inertia,
+                ]
+            })
             .collect();
         for &(i, b) in &self.pairs {
             let q = DMat3::IDENTITY - projection[i];
@@ -183,9 +193,11 @@ impl<'a> Coupling<'a> {
                     return [DVec3::ZERO; 2];
                 }
                 let m = body.momentum(*change);
-                let support = [m[0] - h * body.weight - push[0], m[1] - push[1]];
+                let s = self.scale;
+                let support = [s * m[0] - h * body.weight - push[0], s * m[1] - push[1]];
                 let free = body.constrained(support);
-                [free[0] - support[0], free[1] - support[1]]
+                // Over Rapier's step: the solve's impulses are over the scheme's.
+                [(free[0] - support[0]) / s, (free[1] - support[1]) / s]
             })
             .collect()
     }

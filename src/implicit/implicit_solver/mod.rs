@@ -194,6 +194,11 @@ impl ImplicitSolver {
         self.friction = on;
     }
 
+    /// Whether the supports' friction is in the solve ([`Self::apply_friction`]).
+    pub fn has_friction(&self) -> bool {
+        self.friction
+    }
+
     /// Replaces `forces` (N: every generator's force at the current state, summed per node) by
     /// M·Δv/h − M·g, the force that [`crate::bodies::ClothBodies::write_forces`] turns back into
     /// the kick Δv − h·g (m/s): Δv is the backward-Euler velocity change of our forces and
@@ -327,7 +332,11 @@ impl ImplicitSolver {
         let passes = if next_step { 1 } else { FRICTION_PASSES };
         // A carrier's node at a pin of another body (held) is that pin's, not the carrier's.
         let (held, pinned) = (&self.held, &self.carriers.pinned);
-        let mut coupling = Coupling::new(&self.carriers, |i| !held[i] || pinned.get(i) == Some(&true));
+        // The body's rows are backward Euler's over Rapier's step h, the nodes' over the
+        // scheme's hs: scaled by hs/h to share the nodes' (BDF2: 2/3).
+        let mut coupling = Coupling::new(&self.carriers, hs / h, |i| {
+            !held[i] || pinned.get(i) == Some(&true)
+        });
         let len = n + coupling.slots();
         for v in [&mut self.rhs, &mut self.dv]
             .into_iter()
@@ -359,7 +368,7 @@ impl ImplicitSolver {
                 } else if !self.friction || n == DVec3::ZERO {
                     DVec3::ZERO
                 } else if self.fixed[i] {
-                    surface - *v
+                    -(*v - surface)
                 } else {
                     tangential(n, *v - surface) - (*v - surface)
                 };
@@ -611,9 +620,11 @@ impl ImplicitSolver {
         for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
             let (n, m) = (normals[i], masses[i]);
             let weight = m * gravity;
-            // A node pinned to a carrier: the solve's pin (the carrier) carried its weight.
-            let carried_by_pin = self.carriers.pinned.get(i) == Some(&true);
-            let carried = if (self.friction && n != DVec3::ZERO && !self.held[i]) || carried_by_pin {
+            // A node coupled to a carrier: the carrier's row took its weight, so Rapier's
+            // contact or pin must not take it again.
+            let coupled = self.carriers.of_node.get(i).is_some_and(|b| b.is_some())
+                && (!self.held[i] || self.carriers.pinned[i]);
+            let carried = if (self.friction && n != DVec3::ZERO && !self.held[i]) || coupled {
                 weight
             } else {
                 filter(n, self.held[i], weight)
