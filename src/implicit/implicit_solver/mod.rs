@@ -1,8 +1,10 @@
 //! One linearly implicit velocity solve per step (backward Euler or BDF2), on the matrix
 //! assembled for that step.
 
+mod blocks;
 mod coupling;
 mod friction_start;
+mod kick;
 mod saved_state;
 mod vectors;
 
@@ -21,7 +23,6 @@ use super::supports::Supports;
 use super::thread_lines::ThreadLines;
 use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
-    outer,
 };
 use coupling::Coupling;
 use vectors::{filter, tangential, total_mass};
@@ -412,14 +413,7 @@ impl ImplicitSolver {
             // block Jacobi, each node's own 3×3 block of the filtered system P·A·P, inverted on
             // the plane the filter leaves free (the normal gets m, which the filter then
             // removes again).
-            for (i, p) in self.projection.iter_mut().enumerate() {
-                let n = normals[i];
-                *p = if self.fixed[i] {
-                    DMat3::ZERO
-                } else {
-                    DMat3::IDENTITY - outer(n, n)
-                };
-            }
+            blocks::projections(normals, &self.fixed, &mut self.projection);
             let preconditioner_start = std::time::Instant::now();
             let active = match self.method {
                 Preconditioner::Cholesky { refactor_above } => {
@@ -442,11 +436,13 @@ impl ImplicitSolver {
                     // as the coarse factor is, thin wool at 2.5 mm took 30 products a step
                     // instead of 22, and 91 ms a step instead of 86); the coarse factor is kept
                     // while solves stay short.
-                    for (i, (s, block)) in self.filtered_diagonal.iter_mut().zip(&self.diagonal).enumerate() {
-                        let p = self.projection[i];
-                        *s = p * (*block + DMat3::from_diagonal(DVec3::splat(self.sliding_drag[i]))) * p
-                            + masses[i] * (DMat3::IDENTITY - p);
-                    }
+                    let filtered = blocks::Filtered {
+                        diagonal: &self.diagonal,
+                        projection: &self.projection,
+                        drag: &self.sliding_drag,
+                        masses,
+                    };
+                    filtered.diagonal_blocks(&mut self.filtered_diagonal);
                     if let Preconditioner::TwoLevel { coarsening } = self.method {
                         if self.coarse.is_none() {
                             self.coarse = CoarseGrid::new(topo, rows, coarsening);
@@ -465,19 +461,13 @@ impl ImplicitSolver {
                 Preconditioner::BlockJacobi | Preconditioner::Auto => Active::Jacobi,
             };
             if active == Active::Jacobi {
-                for (i, (inverse, block)) in self.preconditioner.iter_mut().zip(&self.diagonal).enumerate() {
-                    let n = normals[i];
-                    *inverse = if self.fixed[i] {
-                        DMat3::ZERO
-                    } else if n == DVec3::ZERO {
-                        block.inverse()
-                    } else {
-                        let plane = DMat3::IDENTITY - outer(n, n);
-                        let free =
-                            plane * (*block + self.sliding_drag[i] * plane) * plane + masses[i] * outer(n, n);
-                        plane * free.inverse() * plane
-                    };
-                }
+                let blocks = blocks::Filtered {
+                    diagonal: &self.diagonal,
+                    projection: &self.projection,
+                    drag: &self.sliding_drag,
+                    masses,
+                };
+                blocks.jacobi_inverses(normals, &self.fixed, &mut self.preconditioner);
             }
             coupling.factor(&self.diagonal, &self.projection);
             self.stats.preconditioner_s += preconditioner_start.elapsed().as_secs_f64();
@@ -612,26 +602,15 @@ impl ImplicitSolver {
         };
         self.carriers.changes = changes;
         self.carriers.held_impulses = held;
-        // The kick leaves out the gravity Rapier adds back, except what pulls a pinned node (the
-        // pin takes that) and, without friction in the solve, what presses a node onto its
-        // support (Rapier's contact takes that, and bounds its friction by it). With friction in
-        // the solve, the solve's surface has carried the whole weight and the friction: Rapier's
-        // contact, left with nothing to stop, adds no friction of its own.
-        for (i, (f, dv)) in forces.iter_mut().zip(&self.dv).enumerate() {
-            let (n, m) = (normals[i], masses[i]);
-            let weight = m * gravity;
-            // A node coupled to a carrier: the carrier's row took its weight, so Rapier's
-            // contact or pin must not take it again.
-            let coupled = self.carriers.of_node.get(i).is_some_and(|b| b.is_some())
-                && (!self.held[i] || self.carriers.pinned[i]);
-            let carried = if (self.friction && n != DVec3::ZERO && !self.held[i]) || coupled {
-                weight
-            } else {
-                filter(n, self.held[i], weight)
-            };
-            let kick = bdf2.map_or(*dv, |history| history.kick(i, *dv));
-            *f = (m / h) * kick - carried;
-        }
+        let kicks = kick::Kicks {
+            normals,
+            masses,
+            held: &self.held,
+            friction: self.friction,
+            carriers: &self.carriers,
+            bdf2,
+        };
+        kicks.forces(&self.dv, (h, gravity), forces);
         let stepped_bdf2 = bdf2.is_some();
         if let Some(history) = self
             .bdf2
