@@ -54,3 +54,32 @@ fn converge_writes_an_extrapolation_with_its_uncertainty() {
         "a band of zero width from three different DCs: {dcs:?}"
     );
 }
+
+/// Spacings at which the tablecloth's table edge lies on a node row at some and between rows at
+/// others (10, 7.5 and 5 mm) are planned with a warning that names them and suggests spacings
+/// that halve; those (1 cm, 5 mm, 2.5 mm) and the round disk's spacings plan without one.
+#[test]
+fn converge_warns_when_a_table_edge_meets_the_lattice_differently_across_spacings() {
+    let plan = |scene: &str, spacings: &str| {
+        let name = format!("kes-cloth-converge-plan-{}", spacings.replace(',', "-"));
+        let out = std::env::temp_dir().join(name);
+        let _ = std::fs::remove_dir_all(&out);
+        let output = Command::new(env!("CARGO_BIN_EXE_kes-cloth"))
+            .args(["converge", scene, "--spacings", spacings, "--plan", "--out"])
+            .arg(&out)
+            .current_dir(common::crate_path(""))
+            .output()
+            .unwrap();
+        assert!(output.status.success());
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    let mixed = plan("scenes/tablecloth_cotton.ron", "0.01,0.0075,0.005");
+    assert!(
+        mixed.starts_with("warning:")
+            && mixed.contains("on a row of nodes at 10 mm, 5 mm and between rows at 7.5 mm")
+            && mixed.contains("0.01,0.005,0.0025"),
+        "{mixed}"
+    );
+    assert_eq!(plan("scenes/tablecloth_cotton.ron", "0.01,0.005,0.0025"), "");
+    assert_eq!(plan("scenes/drape_cotton.ron", "0.0075,0.005,0.00375"), "");
+}

@@ -230,7 +230,7 @@ fn a_smooth_start_keeps_its_amplitude_on_fine_lattices() {
 /// lattice 1.5 times finer (2.5 mm, centred), with the same node count. The 2.5 mm run stands for
 /// the converged drape: over four placements it is 0.753 ± 0.003, and `kes-cloth converge` over
 /// 5 / 3.75 / 2.5 mm extrapolates 0.753 ± 0.007 (`docs/accuracy.md`). Thin wool's ± 0.012 misses
-/// the spread target at 3.75 mm and meets it at 2.5 mm, which this suite cannot afford.
+/// the spread target at 3.75 mm and meets it at its shipped 2.5 mm (`tests/shipped_scenes.rs`).
 #[test]
 fn thick_cottons_drape_moves_by_less_than_a_hundredth_with_placement_or_a_finer_lattice() {
     let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &[]).unwrap();

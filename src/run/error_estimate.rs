@@ -18,10 +18,22 @@ use crate::scene::{Scene, SceneError};
 /// The order of convergence in σ assumed by the estimate.
 pub const ASSUMED_ORDER: f64 = 1.0;
 
-/// The companion's spacing over the run's: 1.5, or 2 for a clamped strip (whose clamp length
-/// must stay a multiple of the spacing so that a row of nodes lies on the clamp's edge).
+/// Companion ratios tried, in order.
+const RATIOS: [f64; 3] = [1.5, 2.0, 3.0];
+
+/// The companion's spacing over the run's: the first of 1.5, 2 and 3 at which every straight
+/// support edge lies against the node rows as it does in the run ([`Scene::support_edges_on_rows`]:
+/// a clamp's edge, a table's sides), 1.5 if none is. The cloth leaves such an edge at a row, so
+/// a companion whose rows fall otherwise against it differs by where the lattice meets the edge,
+/// not by its spacing alone (a table edge on a row at 5 mm lies between rows at 7.5 mm and on
+/// one at 1 cm).
 pub fn companion_ratio(scene: &Scene) -> f64 {
-    if scene.spec.cloth.clamp_m > 0.0 { 2.0 } else { 1.5 }
+    let spacing = scene.spec.cloth.spacing_m;
+    let run = scene.support_edges_on_rows(spacing);
+    RATIOS
+        .into_iter()
+        .find(|r| scene.support_edges_on_rows(r * spacing) == run)
+        .unwrap_or(RATIOS[0])
 }
 
 /// The same scene at spacing r·σ ([`companion_ratio`]), everything else (step, seed, lattice

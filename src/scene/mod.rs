@@ -154,6 +154,42 @@ impl Scene {
             .collect()
     }
 
+    /// For each straight edge of a support the cloth may leave along a node row (the clamp's
+    /// edge, at `cloth.clamp_m` along the warp; the four vertical sides of every fixed `Cuboid`
+    /// collider), whether a row of nodes of the flat cloth at spacing `spacing` (m) lies on it
+    /// (within a millionth of the spacing). Contact is node-only, so the cloth leaves such an
+    /// edge at a row: on it, or up to a spacing beyond it.
+    pub fn support_edges_on_rows(&self, spacing: f64) -> Vec<bool> {
+        let mut spec = self.spec.clone();
+        spec.cloth.spacing_m = spacing;
+        let lattice = Scene {
+            spec,
+            fabric: self.fabric.clone(),
+            path: self.path.clone(),
+        };
+        let (_, flat) = spawn::cloth_grid(&lattice);
+        let tolerance = 1e-6 * spacing;
+        let on_row = |axis: glam::DVec3, at: f64| flat.iter().any(|p| (p.dot(axis) - at).abs() <= tolerance);
+        let mut edges = Vec::new();
+        if self.spec.cloth.clamp_m > 0.0 {
+            let warp = self.warp_direction();
+            let start = flat.iter().map(|p| p.dot(warp)).fold(f64::INFINITY, f64::min);
+            edges.push(on_row(warp, start + self.spec.cloth.clamp_m));
+        }
+        for c in &self.spec.world.colliders {
+            if let (ColliderShape::Cuboid { half_extents_m: h }, ColliderMotion::Fixed) =
+                (&c.shape, &c.motion)
+            {
+                for (axis, k) in [(glam::DVec3::X, 0), (glam::DVec3::Z, 2)] {
+                    for side in [-1.0, 1.0] {
+                        edges.push(on_row(axis, c.centre_m[k] + side * h[k]));
+                    }
+                }
+            }
+        }
+        edges
+    }
+
     fn check_pins(&self) -> Result<(), (String, String, String)> {
         let (_, flat) = spawn::cloth_grid(self);
         let sigma = self.spec.cloth.spacing_m;

@@ -5,10 +5,12 @@
 //! the specimen and the numerical settings replaced:
 //!
 //! - spacing, on the drapemeters: the coarsest of 3.75, 2.5, 1.875 and 1.25 mm that is at most
-//!   a quarter of the fabric's shorter bending length c = (B/W)^(1/3) (thick cotton, c = 2.6–3.3
-//!   cm, and thin wool, c = 1.5–1.6 cm: 3.75 mm, as the shipped scenes, where both drapes have
-//!   stopped moving with the lattice, `docs/accuracy.md` §4); the tablecloth, whose folds span
-//!   several centimetres, keeps its scene's 5 mm;
+//!   a sixth of the fabric's shorter bending length c = (B/W)^(1/3). Where the lattice meets the
+//!   rim moves a drape by more than 0.01 in DC while the spacing is a quarter of c (thin wool,
+//!   c = 1.53 cm, at 3.75 mm: ± 0.012–0.014 over placements) and by ± 0.003–0.004 from a sixth
+//!   down (thin wool at 2.5 mm; thick cotton, c = 2.71 cm, at 3.75 mm, a seventh: ± 0.007);
+//!   `docs/accuracy.md`. So thick cotton gets 3.75 mm and thin wool 2.5 mm, as the shipped
+//!   scenes; the tablecloth, whose folds span several centimetres, keeps its scene's 5 mm;
 //! - step and integration: the template's (BDF2 at 1/240 s, the KES tensile law), which no
 //!   stability limit ties to the spacing.
 
@@ -37,7 +39,7 @@ pub enum Tester {
 const SPACINGS: [f64; 4] = [0.00375, 0.0025, 0.001875, 0.00125];
 
 /// The largest spacing a drapemeter allows, as a fraction of the fabric's shorter bending length.
-const SPACING_PER_BENDING_LENGTH: f64 = 0.25;
+const SPACING_PER_BENDING_LENGTH: f64 = 1.0 / 6.0;
 
 impl Tester {
     /// Every tester, in the order `--help` lists them.

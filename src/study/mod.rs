@@ -21,8 +21,8 @@ mod work_precision_plot;
 use std::path::Path;
 
 pub use convergence::{
-    Convergence, ConvergenceLayout, ConvergencePlan, ConvergenceRow, collect_convergence, finish_convergence,
-    plan_convergence, run_convergence,
+    Convergence, ConvergenceLayout, ConvergencePlan, ConvergenceRow, collect_convergence, edge_rows_warning,
+    finish_convergence, plan_convergence, run_convergence,
 };
 pub use convergence_report::{extrapolation_line, write_convergence};
 pub use shape_error::ReferenceSurface;

@@ -74,6 +74,9 @@ pub fn study(scene: &Path, plan: &StudyPlan, set: &[String], at: &BatchArgs) -> 
 
 /// `kes-cloth converge`.
 pub fn converge(scene: &Path, plan: &ConvergencePlan, set: &[String], at: &BatchArgs) -> ExitCode {
+    if let Ok(Some(warning)) = kes_cloth::study::edge_rows_warning(scene, set, &plan.spacings) {
+        eprintln!("warning: {warning}");
+    }
     match kes_cloth::study::plan_convergence(scene, set, plan) {
         Ok(planned) => {
             let name = planned.0.layout.scene.clone();
