@@ -20,12 +20,11 @@ mod common;
 const SEEDS: usize = 5;
 
 /// The spacing (m) of the drapemeter and Cusick runs here: 5 mm for both fabrics, where their
-/// mean DC over lattice placements lies within 0.003–0.006 (thick cotton) and 0.009–0.022 (thin
-/// wool) of the value extrapolated to zero spacing, with the converged node count or one fold
-/// fewer (`docs/accuracy.md`, `docs/model.md` §1). Every claim here is about differences of
-/// 0.2–0.4 in DC or several nodes, which 5 mm resolves at a fifth of the cost of the shipped
-/// spacings (3.75 mm thick cotton, 2.5 mm thin wool), whose own runs are checked in
-/// `tests/shipped_scenes.rs` and `tests/lattice_offset.rs`.
+/// mean DC over lattice placements lies within about 0.02 of the value extrapolated to zero
+/// spacing, with the converged node count or one fold fewer (`docs/accuracy.md`). Every claim
+/// here is about differences of 0.2–0.4 in DC or several nodes, which 5 mm resolves at a fifth
+/// of the cost of the shipped spacings (3.75 mm thick cotton, 2.5 mm thin wool), whose own runs
+/// are checked in `tests/shipped_scenes.rs` and `tests/lattice_offset.rs`.
 const SPACING: &str = "cloth.spacing_m=0.005";
 
 /// Five seeds of `scene` at [`SPACING`] (the hysteresis scenes at their own); every one must

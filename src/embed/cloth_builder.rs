@@ -386,6 +386,12 @@ impl ClothBuilder {
     /// The flat position of grid crossing (`i`, `j`) in the cloth's own frame (m: along the warp
     /// and the weft, from the outline's centre).
     fn flat_position(&self, i: usize, j: usize) -> [f64; 2] {
+        self.crossing_position(i as i64, j as i64)
+    }
+
+    /// The flat position (m, as [`Self::flat_position`]) of lattice crossing (`i`, `j`), inside
+    /// the bounding grid or beyond it.
+    fn crossing_position(&self, i: i64, j: i64) -> [f64; 2] {
         let sigma = self.spacing;
         let (nu, nv) = self.grid_size();
         let [ou, ov] = self.outline_offset();
@@ -393,6 +399,29 @@ impl ClothBuilder {
             (i as f64 - (nu - 1) as f64 / 2.0) * sigma + ou,
             (j as f64 - (nv - 1) as f64 / 2.0) * sigma + ov,
         ]
+    }
+
+    /// Each node's mass (kg) under the builder's [`NodeMass`] rule, in the order of
+    /// [`Self::grid`]'s nodes.
+    pub fn node_masses(&self) -> Vec<f64> {
+        self.masses_of(&self.grid().0)
+    }
+
+    /// Each node's mass (kg) of `topology` (the builder's grid) under the builder's rule.
+    fn masses_of(&self, topology: &ClothTopology) -> Vec<f64> {
+        let density = self.fabric.areal_density;
+        match (self.node_mass, self.outline) {
+            (NodeMass::TrueArea, ClothOutline::Circle(d)) => super::outline_areas::circle_node_areas(
+                &topology.grid_coords,
+                |i, j| self.crossing_position(i, j),
+                self.spacing,
+                d / 2.0,
+            )
+            .into_iter()
+            .map(|a| density * a)
+            .collect(),
+            (rule, _) => topology.node_masses(density, rule),
+        }
     }
 
     /// The lattice's shift against the outline (m, along warp and weft): a circle's
@@ -499,7 +528,7 @@ impl ClothBuilder {
             .filter_map(|pin| topology.grid_coords.iter().position(|&c| c == pin.node))
             .collect();
         topology.hold_rigidly(&held);
-        if self.node_mass == NodeMass::CellArea {
+        if self.node_mass.shares_outline() {
             topology.share_outline_widths();
         }
         let topology = Arc::new(topology);
@@ -512,7 +541,7 @@ impl ClothBuilder {
                 p.y += dy;
             }
         }
-        let masses = topology.node_masses(self.fabric.areal_density, self.node_mass);
+        let masses = self.masses_of(&topology);
         let radius = self.node_radius.unwrap_or(topology.spacing / 2.0);
         let options = NodeOptions {
             masses: masses.clone(),

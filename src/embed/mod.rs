@@ -19,6 +19,7 @@ mod cloth_builder;
 mod ecs_install;
 mod host_world;
 mod kes_cloth;
+mod outline_areas;
 mod smooth_roughness;
 mod step_error;
 

@@ -18,6 +18,19 @@ pub enum NodeMass {
     /// edge, ¼σ² at a corner, so the cloth weighs what its outline holds; each bending spring
     /// likewise the width it stands for ([`ClothTopology::share_outline_widths`]).
     CellArea,
+    /// As `CellArea`, with each node of a circle carrying the part of the specimen it stands
+    /// for: its cell clipped to the circle, plus a share of the clipped cells of the crossings
+    /// just outside it, so the nodes weigh what the cut circle weighs (`embed/outline_areas.rs`;
+    /// on a rectangle the same as `CellArea`).
+    TrueArea,
+}
+
+impl NodeMass {
+    /// Whether outline nodes carry less than a whole cell, and bending springs on the outline
+    /// the width they stand for.
+    pub fn shares_outline(self) -> bool {
+        self != NodeMass::Uniform
+    }
 }
 
 /// The springs of a woven particle grid, as flat index arrays.
@@ -307,11 +320,14 @@ impl ClothTopology {
         }
     }
 
-    /// Each node's mass (kg) for a fabric of `areal_density` (kg/m²) under `rule`.
+    /// Each node's mass (kg) for a fabric of `areal_density` (kg/m²) under `rule` (a circle's
+    /// `TrueArea` needs its outline: `ClothBuilder` computes it).
     pub fn node_masses(&self, areal_density: f64, rule: NodeMass) -> Vec<f64> {
         match rule {
             NodeMass::Uniform => vec![areal_density * self.spacing * self.spacing; self.particle_count],
-            NodeMass::CellArea => self.cell_areas().iter().map(|a| areal_density * a).collect(),
+            NodeMass::CellArea | NodeMass::TrueArea => {
+                self.cell_areas().iter().map(|a| areal_density * a).collect()
+            }
         }
     }
 

@@ -109,7 +109,8 @@ pub fn explicit_step_limits(
 /// The explicit step limit of every effect in `choice` for `fabric` at node spacing `spacing`
 /// (m), tightest first, for nodes massed by `node_mass`. With [`NodeMass::CellArea`] an edge
 /// node carries half a cell against an interior node's stiffness along the edge, so every limit
-/// is √2 shorter than [`explicit_step_limits`] gives.
+/// is √2 shorter than [`explicit_step_limits`] gives; with [`NodeMass::TrueArea`] a circle's hem
+/// node carries at least 0.45 of a cell, and every limit is √(1/0.45) shorter.
 pub fn step_limits(
     fabric: &Fabric,
     spacing: f64,
@@ -125,9 +126,17 @@ pub fn step_limits(
         choice.stretch,
         choice.compression_modulus,
     );
-    if node_mass == NodeMass::CellArea {
+    // 1/√(the lightest outline node's share of a cell): ½ on an edge, at least 0.45 on a
+    // circle's clipped hem (`TrueArea`; `tests/node_masses.rs`), against an interior node's
+    // stiffness along the outline.
+    let shorter = match node_mass {
+        NodeMass::Uniform => None,
+        NodeMass::CellArea => Some(std::f64::consts::SQRT_2),
+        NodeMass::TrueArea => Some((1.0f64 / 0.45).sqrt()),
+    };
+    if let Some(factor) = shorter {
         for limit in &mut limits {
-            limit.max_step /= std::f64::consts::SQRT_2;
+            limit.max_step /= factor;
         }
     }
     limits

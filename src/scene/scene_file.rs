@@ -93,8 +93,10 @@ pub struct ClothSpec {
     #[serde(default)]
     pub pins_m: Vec<[f64; 3]>,
     /// How the cloth's mass is shared among its nodes: `Uniform` (default: ρ_A·σ² each, outline
-    /// nodes included) or `CellArea` (the cell area each node stands for: ½σ² on an edge, ¼σ² at
-    /// a corner, and each bending spring the width it stands for; `docs/model.md` §1).
+    /// nodes included), `CellArea` (the cell area each node stands for: ½σ² on an edge, ¼σ² at
+    /// a corner, and each bending spring the width it stands for; `docs/model.md` §1) or
+    /// `TrueArea` (as `CellArea`, with a circle's outline nodes carrying the part of the cut
+    /// circle around them, so the nodes weigh what the specimen weighs).
     #[serde(default)]
     pub node_mass: NodeMass,
     /// Length (m) of the strip's root held as by a clamp: every node of the flat cloth within
