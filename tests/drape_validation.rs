@@ -24,16 +24,19 @@ const SEEDS: usize = 5;
 /// spacing, with the converged node count or one fold fewer (`docs/accuracy.md`). Every claim
 /// here is about differences of 0.2–0.4 in DC or several nodes, which 5 mm resolves at a fifth
 /// of the cost of the shipped spacings (3.75 mm thick cotton, 2.5 mm thin wool), whose own runs
-/// are checked in `tests/shipped_scenes.rs` and `tests/lattice_offset.rs`.
-const SPACING: &str = "cloth.spacing_m=0.005";
+/// are checked in `tests/shipped_scenes.rs` and `tests/lattice_offset.rs`. Rest here is the
+/// quiet window alone, without the shipped scenes' 2 s confirmation watch (`docs/model.md` §1,
+/// "Rest"), which moves a drape by at most 0.001 where it acts and costs 2 s of simulated
+/// time on every run.
+const COARSE: [&str; 2] = ["cloth.spacing_m=0.005", "integration.settle.confirm_s=0"];
 
-/// Five seeds of `scene` at [`SPACING`] (the hysteresis scenes at their own); every one must
+/// Five seeds of `scene` at [`COARSE`] (the hysteresis scenes at their own); every one must
 /// settle.
 fn repeats(scene: &str) -> RepeatSummary {
     let sets: Vec<String> = if scene.starts_with("hysteresis/") {
         Vec::new()
     } else {
-        vec![SPACING.to_string()]
+        COARSE.map(String::from).to_vec()
     };
     let scene = Scene::load(common::crate_path(&format!("scenes/{scene}.ron")), &sets).unwrap();
     let s = summarise(&simulate_repeats(&scene, SEEDS, 2));
@@ -45,7 +48,7 @@ fn repeats(scene: &str) -> RepeatSummary {
     s
 }
 
-/// The seed's drape scene of `fabric` ("cotton" or "wool") at [`SPACING`], run once for every
+/// The seed's drape scene of `fabric` ("cotton" or "wool") at [`COARSE`], run once for every
 /// test of this file that needs it.
 fn shipped_drape(fabric: &str) -> &'static RepeatSummary {
     static COTTON: OnceLock<RepeatSummary> = OnceLock::new();
@@ -109,7 +112,7 @@ fn thick_cotton_drapes_with_fewer_folds_than_thin_wool_on_the_cusick_tester() {
 }
 
 /// Across all shipped fabrics on the seed's drapemeter, at the shipped drape settings but
-/// [`SPACING`] (BDF2, seed 0; within about ± 0.01 of the converged DC, `docs/accuracy.md`), DC
+/// [`COARSE`] (BDF2, seed 0; within about ± 0.01 of the converged DC, `docs/accuracy.md`), DC
 /// rank follows the warp
 /// bending length. The two closest fabrics, thin wool and cotton broadcloth (1.64 and 2.14 cm),
 /// drape about 0.2 apart there: a coarse lattice's own error (0.05–0.13 at 1 cm) could swap them,
@@ -120,7 +123,7 @@ fn drape_coefficient_rises_with_bending_length() {
         .iter()
         .map(|path| {
             let file = format!("fabric={{\"File\":\"{}\"}}", path.display());
-            let sets = [file, SPACING.to_string()];
+            let sets: Vec<String> = std::iter::once(file).chain(COARSE.map(String::from)).collect();
             Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap()
         })
         .collect();
@@ -164,7 +167,11 @@ fn turning_the_cloth_does_not_change_its_drape() {
         .map(|(fabric, angle)| {
             Scene::load(
                 common::crate_path(&format!("scenes/drape_{fabric}.ron")),
-                &[format!("cloth.warp_angle_deg={angle}"), SPACING.to_string()],
+                &[
+                    format!("cloth.warp_angle_deg={angle}"),
+                    COARSE[0].to_string(),
+                    COARSE[1].to_string(),
+                ],
             )
             .unwrap()
         })

@@ -131,6 +131,10 @@ pub struct Metrics {
     pub solve_split: Option<SolveSplit>,
     /// Per effect: calls and seconds (0 calls for an effect the scene did not ask for).
     pub effects: BTreeMap<String, EffectCost>,
+    /// Quiet windows that the settle criterion's confirmation watch (`settle.confirm_s`) undid:
+    /// slow passages that were not rest.
+    #[serde(default)]
+    pub settle_restarts: u32,
     /// Creep check (scenes with `settle.creep_check_s`): how long the cloth was watched after
     /// settling (s).
     pub creep_window_s: Option<f64>,

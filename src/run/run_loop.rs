@@ -275,6 +275,7 @@ fn run_metrics(
         wall_time_s: ending.wall_s,
         settled: settle.settled_at.is_some() && ending.failure.is_none(),
         settle_time_s: settle.settled_at,
+        settle_restarts: settle.restarts,
         max_strain: motion.max_strain,
         peak_strain: motion.peak_strain,
         min_height_m: if motion.min_height.is_finite() {

@@ -197,6 +197,12 @@ pub fn summary(outcome: &RunOutcome) -> String {
         (true, Some(t)) => s += &format!("  settled at t = {t:.2} s"),
         _ => s += "  NOT settled: the numbers below are provisional",
     }
+    if m.settle_restarts > 0 {
+        s += &format!(
+            " after {} quiet window(s) the confirmation watch undid",
+            m.settle_restarts
+        );
+    }
     s += &format!(
         " ({} steps, {:.2} s simulated, {:.1} s wall)\n",
         m.steps, m.sim_time_s, m.wall_time_s

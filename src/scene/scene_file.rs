@@ -484,6 +484,12 @@ pub struct SettleSpec {
     /// slow slide, is what a drape test measures.
     #[serde(default)]
     pub creep_check_s: f64,
+    /// After a quiet window, watch this long (s; default 0, no watch) before calling the cloth
+    /// settled: if a node then travels further than a quiet window allows (`max_speed_m_per_s ×
+    /// hold_s`), the window was a slow passage through a shape that is not at rest, and
+    /// settling starts again (`settle_restarts` in `metrics.json`).
+    #[serde(default)]
+    pub confirm_s: f64,
 }
 
 fn default_min_time() -> f64 {
@@ -497,6 +503,7 @@ impl Default for SettleSpec {
             hold_s: 0.5,
             min_time_s: default_min_time(),
             creep_check_s: 0.0,
+            confirm_s: 0.0,
         }
     }
 }

@@ -289,6 +289,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1e4,
         "s",
     )?;
+    in_closed("integration.settle.confirm_s", i.settle.confirm_s, 0.0, 1e4, "s")?;
     whole(
         "integration.implicit_solver.max_iterations",
         i.implicit_solver.max_iterations,

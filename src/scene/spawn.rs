@@ -166,5 +166,6 @@ pub fn insert_resources(world: &mut World, physics: PhysicsWorld, dt: f64, settl
         settle.max_speed_m_per_s,
         settle.hold_s,
         settle.min_time_s,
+        settle.confirm_s,
     ));
 }
