@@ -38,6 +38,7 @@ fn a_kick_moves_a_free_node_by_symplectic_euler_at_any_substep_count() {
             self_collision: false,
             gravity: false,
             surface_depth: 0.0,
+            link_support_hz: None,
         };
         let nodes = ClothBodies::spawn(&mut world, &topology, &[DVec3::ZERO], &options);
         nodes.write_forces(&mut world, &[force]);

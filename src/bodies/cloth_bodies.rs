@@ -32,6 +32,11 @@ pub struct NodeOptions {
     /// then rests this much closer to the surface. Only in effect where the world is stepped
     /// with [`super::SheetContacts`].
     pub surface_depth: f64,
+    /// Links, not only nodes, rest on the edges of fixed and kinematic colliders
+    /// ([`crate::implicit::LinkSupport`], read by [`ClothBodies::read_link_supports`]), with a
+    /// penalty spring whose natural frequency on the link's mean node mass is this (Hz);
+    /// `None`: node contact only.
+    pub link_support_hz: Option<f64>,
 }
 
 /// The Rapier bodies of one cloth, in particle order.
@@ -52,6 +57,10 @@ pub struct ClothBodies {
     pub dynamic_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
     /// [`NodeOptions::surface_depth`] (m).
     pub surface_depth: f64,
+    /// Contact radius of each node's ball (m).
+    pub radius: f64,
+    /// [`NodeOptions::link_support_hz`] (Hz).
+    pub link_support_hz: Option<f64>,
 }
 
 impl ClothBodies {
@@ -120,6 +129,8 @@ impl ClothBodies {
             moving_pins: Vec::new(),
             dynamic_pins: Vec::new(),
             surface_depth,
+            radius: options.radius,
+            link_support_hz: options.link_support_hz,
         }
     }
 
@@ -287,12 +298,8 @@ impl ClothBodies {
                 continue;
             };
             for (pair, other, node_first) in body_pairs(world, body) {
-                let pushing_body = world
-                    .colliders
-                    .get(other)
-                    .and_then(|c| c.parent())
-                    .and_then(|b| world.bodies.get(b))
-                    .is_some_and(|b| b.is_dynamic() && !self.is_node(b));
+                let pushing_body =
+                    collider_body(world, other).is_some_and(|b| b.is_dynamic() && !self.is_node(b));
                 if !pushing_body {
                     continue;
                 }
@@ -326,6 +333,15 @@ impl ClothBodies {
             }
         }
     }
+}
+
+/// The rigid body a collider is attached to (`None` for a collider on no body, or unknown).
+pub(super) fn collider_body(world: &PhysicsWorld, collider: ColliderHandle) -> Option<&RigidBody> {
+    world
+        .colliders
+        .get(collider)
+        .and_then(|c| c.parent())
+        .and_then(|b| world.bodies.get(b))
 }
 
 /// Every contact pair of `body`'s colliders: the pair, the collider on its other side, and

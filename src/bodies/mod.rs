@@ -9,6 +9,7 @@
 
 mod carriers;
 mod cloth_bodies;
+mod link_contacts;
 mod sheet_contacts;
 mod world_colliders;
 mod world_settings;

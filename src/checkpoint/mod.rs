@@ -54,6 +54,10 @@ struct ImplicitState {
     /// (`FrictionRelease::NextStep`; empty for none).
     #[serde(default)]
     releases_due: Vec<bool>,
+    /// Where static friction holds each link an edge presses (link, material point 0–1, anchor
+    /// in m; `implicit::LinkAnchors`; empty without link support).
+    #[serde(default)]
+    link_anchors: Vec<(usize, f64, DVec3)>,
 }
 
 /// Everything needed to continue a run.
@@ -119,6 +123,16 @@ impl Snapshot {
                 sliding: i.0.sliding_impulses().to_vec(),
                 bdf2: i.0.bdf2_history().cloned(),
                 releases_due: i.0.releases_due().to_vec(),
+                link_anchors: {
+                    let mut anchors: Vec<_> =
+                        i.0.supports
+                            .anchors
+                            .iter()
+                            .map(|(l, (t, a))| (*l, *t, *a))
+                            .collect();
+                    anchors.sort_by_key(|(l, _, _)| *l);
+                    anchors
+                },
             }),
             settle: world.resource::<SettleState>().clone(),
             motion: *world.resource::<Motion>(),
@@ -160,6 +174,7 @@ impl Snapshot {
         let restored = match (world.get_mut::<Implicit>(cloth), &self.implicit) {
             (Some(mut i), Some(s)) => {
                 i.0.stats = s.stats;
+                i.0.supports.anchors = s.link_anchors.iter().map(|&(l, t, a)| (l, (t, a))).collect();
                 i.0.restore_warm_start(&s.warm_start)
                     && i.0.restore_pressed(&s.pressed)
                     && i.0.restore_sliding_impulses(&s.sliding)

@@ -88,6 +88,8 @@ pub struct ClothBuilder {
     stretch_set: bool,
     /// [`Self::rest_on_lower_face`].
     lower_face: bool,
+    /// [`Self::link_support`] (Hz).
+    link_support_hz: Option<f64>,
 }
 
 impl ClothBuilder {
@@ -123,6 +125,7 @@ impl ClothBuilder {
             step_guard: true,
             stretch_set: false,
             lower_face: false,
+            link_support_hz: None,
         }
     }
 
@@ -190,6 +193,17 @@ impl ClothBuilder {
     /// radius above.
     pub fn rest_on_lower_face(mut self, on: bool) -> Self {
         self.lower_face = on;
+        self
+    }
+
+    /// Whether the links between nodes, not only the nodes, rest on the edges of the world's
+    /// fixed and kinematic colliders (a drapemeter's rim, a table's edge), and how stiffly: a
+    /// penalty spring at the point of a link an edge presses, of natural frequency `hz` (Hz) on
+    /// the link's mean node mass, shared by its two nodes ([`crate::implicit::LinkSupport`];
+    /// `docs/model.md` §1, "Link support"). Default `None`: a cloth leaves an edge at a node.
+    /// Acts in the implicit solve only; an explicit cloth keeps node contact.
+    pub fn link_support(mut self, hz: Option<f64>) -> Self {
+        self.link_support_hz = hz;
         self
     }
 
@@ -470,6 +484,9 @@ impl ClothBuilder {
                 );
             }
         }
+        if let Some(hz) = self.link_support_hz.filter(|hz| !positive(*hz)) {
+            return invalid("link_support", hz, "must be positive (Hz)");
+        }
         if let Some(r) = self.node_radius.filter(|r| !positive(*r)) {
             return invalid("node_radius", r, "must be positive (m)");
         }
@@ -554,6 +571,7 @@ impl ClothBuilder {
                 true => radius - (0.5 * self.fabric.thickness).max(LOWEST_CLEARANCE),
                 false => 0.0,
             },
+            link_support_hz: self.link_support_hz,
         };
         let mut bodies = ClothBodies::spawn(world, &topology, &positions, &options);
         for pin in &self.pins {

@@ -82,6 +82,9 @@ impl KesCloth {
         }
         if let Some(implicit) = &mut p.implicit {
             p.bodies.read_supports(world, &mut implicit.supports);
+            let links = &state.topology.links;
+            p.bodies
+                .read_link_supports(world, links, &state.positions, &mut implicit.supports);
             p.bodies.back_supported_nodes(world, &implicit.supports);
             let h = world.integration_parameters.dt as f64;
             p.bodies

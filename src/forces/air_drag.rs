@@ -3,7 +3,7 @@
 //! A deliberately simple law (Stokes-like, per unit area) for flags and falling cloth; unlike
 //! [`super::LinkDamping`] it does slow free fall, as air does.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::{ClothGeometry, ForceBuffer, ForceGenerator, LinkMatrix, Perturbation};
 
@@ -49,7 +49,7 @@ impl ForceGenerator for AirDrag {
 
     fn add_damping_blocks(&self, scale: f64, matrix: &mut LinkMatrix) {
         for c in &mut matrix.particle {
-            *c += scale * self.per_node;
+            *c += DMat3::from_diagonal(DVec3::splat(scale * self.per_node));
         }
     }
 }

@@ -36,8 +36,9 @@ struct Slot {
 pub struct LinkMatrix {
     /// Diagonal block of each link.
     pub link: Vec<DMat3>,
-    /// Isotropic diagonal term of each particle.
-    pub particle: Vec<f64>,
+    /// Diagonal block of each particle: terms that act on a particle's own motion (air drag,
+    /// a support under a link, [`crate::implicit::LinkSupport`]).
+    pub particle: Vec<DMat3>,
     /// Coupling block of each slot: the term for (first link's row, second link's column).
     coupling: Vec<DMat3>,
     slots: Vec<Slot>,
@@ -87,7 +88,7 @@ impl LinkMatrix {
             .collect::<Vec<_>>();
         Self {
             link: vec![DMat3::ZERO; topology.links.len()],
-            particle: vec![0.0; topology.particle_count],
+            particle: vec![DMat3::ZERO; topology.particle_count],
             coupling: vec![DMat3::ZERO; slots.len()],
             slots,
             bend_count: topology.bend_links.len(),
@@ -97,7 +98,7 @@ impl LinkMatrix {
     /// Sets every entry to zero (start of an assembly).
     pub fn clear(&mut self) {
         self.link.fill(DMat3::ZERO);
-        self.particle.fill(0.0);
+        self.particle.fill(DMat3::ZERO);
         self.coupling.fill(DMat3::ZERO);
     }
 
@@ -167,7 +168,7 @@ impl LinkMatrix {
     /// the block-Jacobi preconditioner's blocks.
     pub fn add_particle_diagonal(&self, topology: &ClothTopology, blocks: &mut [DMat3]) {
         for (b, c) in blocks.iter_mut().zip(&self.particle) {
-            *b += DMat3::from_diagonal(DVec3::splat(*c));
+            *b += *c;
         }
         for (&[p, q], block) in topology.links.iter().zip(&self.link) {
             blocks[p as usize] += *block;

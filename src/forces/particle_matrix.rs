@@ -121,7 +121,7 @@ impl ParticleMatrix {
             }
         }
         for (d, c) in self.diagonal.iter().zip(&matrix.particle) {
-            block[*d as usize] += DMat3::from_diagonal(DVec3::splat(*c));
+            block[*d as usize] += *c;
         }
     }
 
@@ -196,7 +196,7 @@ mod tests {
             links.add_element(slot, (DMat3::ZERO, pseudo(10_000 + slot), DMat3::ZERO));
         }
         for (i, c) in links.particle.iter_mut().enumerate() {
-            *c = i as f64 * 0.1;
+            *c = pseudo(20_000 + i) + pseudo(20_000 + i).transpose();
         }
         let mut rows = ParticleMatrix::new(&topo, &links);
         rows.assemble(&links);

@@ -2,6 +2,8 @@
 
 use glam::DVec3;
 
+use super::{LinkAnchors, LinkSupport};
+
 /// Per node, the fixed or kinematic surfaces Rapier's last step found under it, filled by
 /// [`crate::bodies::ClothBodies::read_supports`] before each [`super::ImplicitSolver::solve`],
 /// and in a host's world the dynamic bodies carrying it ([`super::Carriers`]).
@@ -20,6 +22,14 @@ pub struct Supports {
     /// Velocity (m/s) of the surface in [`Self::pushed`] at the node: a carrier's
     /// ([`super::Carriers`]); zero for a fixed or kinematic collider.
     pub velocity: Vec<DVec3>,
+    /// Links a fixed surface's edge presses between their nodes ([`LinkSupport`]), filled by
+    /// [`crate::bodies::ClothBodies::read_link_supports`]; empty unless the cloth asks for
+    /// link support.
+    pub links: Vec<LinkSupport>,
+    /// Where static friction holds each link in [`Self::links`], kept from step to step (not
+    /// cleared by [`Self::clear`]; [`crate::bodies::ClothBodies::read_link_supports`] keeps
+    /// the anchors of links still pressed).
+    pub anchors: LinkAnchors,
 }
 
 impl Supports {
@@ -30,6 +40,8 @@ impl Supports {
             touching: vec![DVec3::ZERO; n],
             friction: vec![0.0; n],
             velocity: vec![DVec3::ZERO; n],
+            links: Vec::new(),
+            anchors: LinkAnchors::new(),
         }
     }
 
@@ -41,5 +53,6 @@ impl Supports {
         }
         self.friction.clear();
         self.friction.resize(n, 0.0);
+        self.links.clear();
     }
 }

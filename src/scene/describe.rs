@@ -55,10 +55,15 @@ pub fn describe(scene: &Scene) -> String {
     );
     let _ = writeln!(
         out,
-        "world: gravity {} m/s², contact stiffness {} Hz against fixed bodies, {} Hz between moving ones",
+        "world: gravity {} m/s², contact stiffness {} Hz against fixed bodies, {} Hz between moving ones{}",
         vector_text(s.world.gravity_m_per_s2),
         s.world.contact.fixed_hz,
-        s.world.contact.moving_hz
+        s.world.contact.moving_hz,
+        if s.world.contact.link_support {
+            "; links rest on the fixed bodies' edges (link support)"
+        } else {
+            ""
+        }
     );
     for c in &s.world.colliders {
         let motion = match c.motion {

@@ -204,6 +204,12 @@ pub struct ContactSpec {
     /// > 0; default 30, Rapier's own).
     #[serde(default = "default_moving_hz")]
     pub moving_hz: f64,
+    /// Whether the links between nodes, not only the nodes, rest on the fixed colliders' edges
+    /// (a drapemeter's rim, a table's edge), with the stiffness of `fixed_hz` (default false:
+    /// the cloth leaves an edge at a node; implicit integrators only; `docs/model.md` §1,
+    /// "Link support").
+    #[serde(default)]
+    pub link_support: bool,
 }
 
 impl ContactSpec {
@@ -221,6 +227,7 @@ impl Default for ContactSpec {
         Self {
             fixed_hz: default_fixed_hz(),
             moving_hz: default_moving_hz(),
+            link_support: false,
         }
     }
 }

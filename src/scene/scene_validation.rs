@@ -206,6 +206,13 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         1e6,
         "Hz",
     )?;
+    if s.world.contact.link_support && s.integration.integrator == IntegratorSpec::Explicit {
+        return Err(violation(
+            "world.contact.link_support",
+            true,
+            "needs an implicit integrator (`integration.integrator: Implicit` or `Bdf2`): link support acts in the implicit solve",
+        ));
+    }
     for (i, col) in s.world.colliders.iter().enumerate() {
         let f = |name: &str| format!("world.colliders[{i}].{name}");
         finite3(&f("centre_m"), col.centre_m)?;

@@ -19,6 +19,7 @@ use crate::schedule::{Clock, EffectLedger, Failure, Physics};
 pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
     let c = &scene.spec.cloth;
     let fx = &scene.spec.effects;
+    let contact = &scene.spec.world.contact;
     let outline = match c.shape {
         ClothShape::Circle { diameter_m } => ClothOutline::Circle(diameter_m),
         ClothShape::Square { side_m } => ClothOutline::Rectangle {
@@ -49,6 +50,7 @@ pub fn cloth_builder(scene: &Scene) -> ClothBuilder {
         .hysteresis(fx.hysteresis)
         .collisions_and_gravity(fx.contact, fx.self_collision, fx.gravity)
         .integrator(integrator(&scene.spec.integration))
+        .link_support(contact.link_support.then_some(contact.fixed_hz))
 }
 
 fn integrator(spec: &IntegrationSpec) -> Integrator {

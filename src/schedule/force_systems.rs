@@ -98,6 +98,10 @@ pub fn solve_implicit(
         let start = Instant::now();
         let solver = &mut implicit.0;
         nodes.0.read_supports(&physics.0, &mut solver.supports);
+        let links = &state.topology.links;
+        nodes
+            .0
+            .read_link_supports(&physics.0, links, &state.positions, &mut solver.supports);
         if host.is_some() {
             nodes.0.back_supported_nodes(&mut physics.0, &solver.supports);
         }

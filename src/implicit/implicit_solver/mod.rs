@@ -17,7 +17,7 @@ use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 use super::preconditioner::{Active, Preconditioner};
 use super::scheme::{Bdf2History, Scheme};
-use super::solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats};
+use super::solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats, LINK_TOLERANCE};
 use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
 use super::thread_lines::ThreadLines;
@@ -263,6 +263,11 @@ impl ImplicitSolver {
         for g in generators.iter().flatten() {
             g.add_stiffness_blocks(geometry, hs * hs, matrix);
         }
+        // Edges pressing on links between nodes: forces and stiffness, as any effect's.
+        for link in &self.supports.links {
+            link.add_forces(forces);
+            link.add_stiffness_blocks(hs * hs, matrix);
+        }
         match bdf2 {
             Some(_) => {
                 for (a, w) in self.ax.iter_mut().zip(rapier_velocities) {
@@ -324,7 +329,11 @@ impl ImplicitSolver {
         // The error δv = A⁻¹·r has |r|_P² ≈ rᵀ·A⁻¹·r = δvᵀ·A·δv ≥ Σ m·|δv|², so a residual below
         // √(Σm)·ε leaves a mass-weighted RMS velocity error below about ε.
         let stop = Stop {
-            relative: self.settings.tolerance,
+            relative: if self.supports.links.is_empty() {
+                self.settings.tolerance
+            } else {
+                self.settings.tolerance.min(LINK_TOLERANCE)
+            },
             absolute: self.settings.velocity_tolerance * total_mass(masses).sqrt(),
             max_iterations: self.settings.max_iterations,
         };
