@@ -8,7 +8,7 @@
 //! surface, with static (Coulomb) friction as a spring across the normal holding the material
 //! point where the contact began until it would pull harder than μ times the normal force: both
 //! forces are shared by the link's two nodes in proportion to where their points lie, and the
-//! implicit solve carries their stiffness exactly.
+//! implicit solve carries their stiffness, the points and normal held over the step.
 
 use glam::{DMat3, DVec3};
 
