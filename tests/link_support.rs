@@ -134,3 +134,43 @@ fn the_edge_holds_a_pressed_link_by_static_friction_up_to_mu_times_its_push() {
     );
     assert!(slipped.shift.z > 0.0, "friction pulls back against the motion");
 }
+
+/// The stiffness the implicit solve is given is the derivative of the force the edge applies,
+/// the point pressed and the normal held over the step: moving the two nodes by a small δ
+/// (about 1 µm, across the link and along the edge, within friction's hold) changes the nodes'
+/// forces by −H·δ, H from `LinkSupport::add_stiffness_blocks`, up to the normal's turn, which H
+/// leaves out. That term is the push k·depth turning by δ over the distance from the edge to the
+/// link's centre line: depth/distance = 0.031/0.469 mm, 7 % of the spring's k·δ here (the drapes
+/// press 5–60 µm into a 0.5 mm clearance), hence a tolerance of 10 % of the change.
+#[test]
+fn the_solves_stiffness_is_the_derivative_of_the_edges_force() {
+    use kes_cloth::forces::{ForceBuffer, LinkMatrix, Perturbation};
+    let (p, q) = (DVec3::new(-2e-3, 6e-4, 0.0), DVec3::new(2e-3, 3.4e-4, 0.0));
+    let (world, nodes, topology) = edge_world(p, q);
+    let mut supports = Supports::new(2);
+    let mut forces_at = |moved: [DVec3; 2], supports: &mut Supports| {
+        nodes.read_supports(&world, supports);
+        nodes.read_link_supports(&world, &topology.links, &[p + moved[0], q + moved[1]], supports);
+        assert_eq!(supports.links.len(), 1, "{:?}", supports.links);
+        let mut f = [DVec3::ZERO; 2];
+        supports.links[0].add_forces(&mut f);
+        (f, supports.links[0])
+    };
+    let (before, support) = forces_at([DVec3::ZERO; 2], &mut supports);
+    let delta = [DVec3::new(3e-7, -8e-7, 4e-7), DVec3::new(-5e-7, 2e-7, 6e-7)];
+    let (after, _) = forces_at(delta, &mut supports);
+    let mut matrix = LinkMatrix::new(&topology);
+    support.add_stiffness_blocks(1.0, &mut matrix);
+    let mut pert = Perturbation::new(&topology);
+    pert.set(&topology, &delta);
+    let mut buffer = ForceBuffer::new(&topology);
+    let h_delta = matrix.product(&topology, &pert, &mut buffer).to_vec();
+    for i in 0..2 {
+        let change = after[i] - before[i];
+        assert!(
+            (change + h_delta[i]).length() <= 0.1 * change.length(),
+            "node {i}: force changed by {change}, −H·δ = {}",
+            -h_delta[i]
+        );
+    }
+}
