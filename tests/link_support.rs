@@ -148,7 +148,7 @@ fn the_solves_stiffness_is_the_derivative_of_the_edges_force() {
     let (p, q) = (DVec3::new(-2e-3, 6e-4, 0.0), DVec3::new(2e-3, 3.4e-4, 0.0));
     let (world, nodes, topology) = edge_world(p, q);
     let mut supports = Supports::new(2);
-    let mut forces_at = |moved: [DVec3; 2], supports: &mut Supports| {
+    let forces_at = |moved: [DVec3; 2], supports: &mut Supports| {
         nodes.read_supports(&world, supports);
         nodes.read_link_supports(&world, &topology.links, &[p + moved[0], q + moved[1]], supports);
         assert_eq!(supports.links.len(), 1, "{:?}", supports.links);
