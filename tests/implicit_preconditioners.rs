@@ -195,3 +195,102 @@ fn two_level_products_do_not_grow_with_the_lattice() {
     assert!(2 * large <= 3 * small, "{message}");
     assert!(3 * large <= jacobi_large, "{message}");
 }
+
+#[test]
+fn a_repeated_pass_refactors_only_what_the_released_holds_changed_to_the_last_bit() {
+    // A step's repeated pass changes only the filter and diagonal block of the nodes whose hold
+    // gave way. Refactoring just the thread chains through them, and forming again just the
+    // coarse blocks they feed, must give the factors a whole refactorisation gives: the same
+    // preconditioner output to the last bit, not merely within a tolerance.
+    use glam::DMat3;
+    use kes_cloth::forces::{LinkMatrix, ParticleMatrix};
+    use kes_cloth::implicit::{CoarseGrid, ThreadLines};
+
+    let side = 24;
+    let topo = ClothTopology::rectangle(side, side, 0.0025);
+    let mut links = LinkMatrix::new(&topo);
+    for (k, b) in links.link.iter_mut().enumerate() {
+        *b = DMat3::from_diagonal(DVec3::new(3.0, 1.0, 0.5 + 0.1 * wobble(k, 0))) * 1e-3;
+    }
+    for slot in 0..links.slot_count() {
+        let bend = DMat3::from_diagonal(DVec3::splat(1e-6 * (1.5 + wobble(slot, 1))));
+        links.add_element(slot, (DMat3::ZERO, bend, DMat3::ZERO));
+    }
+    let mut rows = ParticleMatrix::new(&topo, &links);
+    rows.assemble(&links);
+    let n = topo.particle_count;
+    let mass = 1e-4;
+    // S's diagonal block of each node for its filter P: P·(A_ii + m)·P + m·(I − P).
+    let diagonal = |projection: &[DMat3]| -> Vec<DMat3> {
+        (0..n)
+            .map(|i| {
+                let p = projection[i];
+                p * (rows.row(i).1[0] + DMat3::from_diagonal(DVec3::splat(mass))) * p
+                    + mass * (DMat3::IDENTITY - p)
+            })
+            .collect()
+    };
+    // First pass: a band of nodes supported by a plane, three of them held (filter zero).
+    let normal = DVec3::new(0.2, 1.0, 0.1).normalize();
+    let plane = DMat3::IDENTITY - DMat3::from_cols(normal * normal.x, normal * normal.y, normal * normal.z);
+    let held: [u32; 3] = [30, 31, 200];
+    let mut first = vec![DMat3::IDENTITY; n];
+    for (i, p) in first.iter_mut().enumerate().take(3 * side) {
+        *p = if held.contains(&(i as u32)) {
+            DMat3::ZERO
+        } else {
+            plane
+        };
+    }
+    // The repeated pass: the three holds gave way, their nodes slide in the plane.
+    let mut second = first.clone();
+    for &i in &held {
+        second[i as usize] = plane;
+    }
+    let r: Vec<DVec3> = (0..n)
+        .map(|i| DVec3::new(wobble(i, 2), wobble(i, 3), wobble(i, 4)))
+        .collect();
+    let (d1, d2) = (diagonal(&first), diagonal(&second));
+
+    let mut partial = ThreadLines::new(&topo, &rows);
+    assert!(partial.factor(&rows, &d1, &first));
+    assert!(partial.refactor_through(&held, &rows, &d2, &second));
+    let mut whole = ThreadLines::new(&topo, &rows);
+    assert!(whole.factor(&rows, &d2, &second));
+    let (mut a, mut b) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+    partial.solve(&r, &mut a);
+    whole.solve(&r, &mut b);
+    assert!(
+        a == b,
+        "thread lines: a partial refactorisation differs from a whole one"
+    );
+    let mut stale = vec![DVec3::ZERO; n];
+    let mut first_only = ThreadLines::new(&topo, &rows);
+    assert!(first_only.factor(&rows, &d1, &first));
+    first_only.solve(&r, &mut stale);
+    assert!(
+        stale != b,
+        "not a test: the released holds do not change the thread lines"
+    );
+
+    let mut partial = CoarseGrid::new(&topo, &rows, 4).unwrap();
+    assert!(partial.factor(&rows, &d1, &first));
+    assert!(partial.refactor_through(&held, &rows, &d2, &second));
+    let mut whole = CoarseGrid::new(&topo, &rows, 4).unwrap();
+    assert!(whole.factor(&rows, &d2, &second));
+    let (mut a, mut b) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+    partial.add_correction(&r, &mut a);
+    whole.add_correction(&r, &mut b);
+    assert!(
+        a == b,
+        "coarse correction: a partial form differs from a whole one"
+    );
+    let mut first_only = CoarseGrid::new(&topo, &rows, 4).unwrap();
+    assert!(first_only.factor(&rows, &d1, &first));
+    let mut stale = vec![DVec3::ZERO; n];
+    first_only.add_correction(&r, &mut stale);
+    assert!(
+        stale != b,
+        "not a test: the released holds do not change the coarse system"
+    );
+}

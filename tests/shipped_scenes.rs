@@ -178,8 +178,8 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
             Scene::load(common::crate_path(&format!("scenes/{name}.ron")), sets).unwrap()
         };
         let mut scenes: Vec<(Scene, &'static str)> = Vec::new();
-        // Thin wool on the Cusick tester (11,289 nodes, a passage through a shape not at rest,
-        // 22 s simulated) is the longest by far; thin wool's drapemeter runs come next.
+        // Thin wool on the Cusick tester (11,289 nodes, and the one that may pass slowly
+        // through a shape not at rest) is the longest; thin wool's drapemeter runs come next.
         scenes.push((load("cusick_wool", &watch), WATCHED));
         scenes.push((load("drape_wool", &watch), WATCHED));
         let shipped = load("drape_wool", &[]);
@@ -256,8 +256,8 @@ const JITTER_BOUND: f64 = 1e-3;
 /// Each drape comes to rest (its quiet window closed and confirmed by the scene's 2 s watch)
 /// within 5 s for thick cotton and within its scene's 20 s budget for thin wool, whose last
 /// skirt fold relaxes slowly from the smooth start and can pass slowly through a shape not at
-/// rest (the Cusick tester's seed 0 opens its confirmed window at 14.5 s; `docs/model.md` §1,
-/// "Rest"), and then neither creeps nor jitters over 5 s.
+/// rest (on the Cusick tester such a passage kept one lattice placement moving until about
+/// 14 s; `docs/model.md` §1, "Rest"), and then neither creeps nor jitters over 5 s.
 #[test]
 fn drapes_come_to_rest_within_their_budget_and_do_not_creep() {
     for name in DRAPES {

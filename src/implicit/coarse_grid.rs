@@ -55,6 +55,44 @@ struct Scatter {
     weight: f64,
 }
 
+impl Scatter {
+    /// What the filtered fine block `s` adds to the coarse block.
+    #[inline(always)]
+    fn contribution(&self, s: DMat3) -> DMat3 {
+        let add = self.weight * s;
+        match self.mode {
+            0 => add,
+            1 => add.transpose(),
+            _ => add + add.transpose(),
+        }
+    }
+}
+
+/// Block (i, j) of the filtered system S = P·(M + A + D)·P + (I − P)·M: the filtered diagonal
+/// block where j = i, P_i·A_ij·P_j elsewhere (A_ij itself between free nodes).
+#[inline(always)]
+fn filtered_block(i: usize, j: usize, block: &DMat3, diagonal: &[DMat3], projection: &[DMat3]) -> DMat3 {
+    if j == i {
+        diagonal[i]
+    } else if projection[i] == DMat3::IDENTITY && projection[j] == DMat3::IDENTITY {
+        *block
+    } else {
+        projection[i] * *block * projection[j]
+    }
+}
+
+/// Lists of indices as one array and each list's start (with the end as a last entry).
+fn flatten(lists: Vec<Vec<u32>>) -> (Vec<u32>, Vec<u32>) {
+    let mut start = Vec::with_capacity(lists.len() + 1);
+    start.push(0);
+    let mut flat = Vec::new();
+    for list in lists {
+        flat.extend(list);
+        start.push(flat.len() as u32);
+    }
+    (start, flat)
+}
+
 /// The coarse lattice of one cloth, its Galerkin matrix and factor.
 #[derive(Clone, Debug)]
 pub struct CoarseGrid {
@@ -75,6 +113,22 @@ pub struct CoarseGrid {
     solution: Vec<DVec3>,
     /// Whether the last factorisation succeeded.
     factored: bool,
+    /// First fine block (in the particle matrix's order) of each fine row.
+    block_start: Vec<u32>,
+    /// For each fine node j, the fine blocks (i, j) stored in earlier rows i < j:
+    /// `lower_block[lower_start[j]..lower_start[j + 1]]`.
+    lower_start: Vec<u32>,
+    lower_block: Vec<u32>,
+    /// For each coarse block, the scatters that feed it, in the order [`Self::factor`] adds
+    /// them: `contributors[contributor_start[c]..contributor_start[c + 1]]`.
+    contributor_start: Vec<u32>,
+    contributors: Vec<u32>,
+    /// Each contributor's fine block (in the particle matrix's order).
+    contributor_block: Vec<u32>,
+    /// Each fine block's row.
+    block_row: Vec<u32>,
+    /// Scratch of [`Self::refactor_through`]: which coarse blocks it recomputes.
+    marked: Vec<bool>,
 }
 
 impl CoarseGrid {
@@ -171,7 +225,43 @@ impl CoarseGrid {
             }
         }
         let cholesky = SparseCholesky::new(&matrix)?;
+        // Where each fine row's blocks start, the blocks below each node, and each coarse
+        // block's scatters, for recomputing a few coarse blocks.
+        let mut block_start = vec![0u32];
+        let mut lower: Vec<Vec<u32>> = vec![Vec::new(); parents.len()];
+        for i in 0..parents.len() {
+            let (fine_columns, _) = rows.row(i);
+            let first = *block_start.last().unwrap();
+            for (d, &j) in fine_columns.iter().enumerate() {
+                if j as usize != i {
+                    lower[j as usize].push(first + d as u32);
+                }
+            }
+            block_start.push(first + fine_columns.len() as u32);
+        }
+        let (lower_start, lower_block) = flatten(lower);
+        let mut feeding: Vec<Vec<u32>> = vec![Vec::new(); matrix.column.len()];
+        for (at, c) in scatter.iter().enumerate() {
+            feeding[c.index as usize].push(at as u32);
+        }
+        let (contributor_start, contributors) = flatten(feeding);
+        let contributor_block = contributors
+            .iter()
+            .map(|&at| scatter_start.partition_point(|&start| start <= at) as u32 - 1)
+            .collect();
+        let block_row = (0..block_start.len() - 1)
+            .flat_map(|i| std::iter::repeat_n(i as u32, (block_start[i + 1] - block_start[i]) as usize))
+            .collect();
+        let marked = vec![false; matrix.column.len()];
         Some(Self {
+            block_start,
+            lower_start,
+            lower_block,
+            contributor_start,
+            contributors,
+            contributor_block,
+            block_row,
+            marked,
             scatter,
             scatter_start,
             parents,
@@ -199,27 +289,66 @@ impl CoarseGrid {
         for i in 0..self.parents.len() {
             let (columns, blocks) = rows.row(i);
             for (&j, block) in columns.iter().zip(blocks) {
-                let j = j as usize;
-                // S_ii is the filtered diagonal; S_ij = P_i·A_ij·P_j (P = I on a free node).
-                let s = if j == i {
-                    diagonal[i]
-                } else if projection[i] == DMat3::IDENTITY && projection[j] == DMat3::IDENTITY {
-                    *block
-                } else {
-                    projection[i] * *block * projection[j]
-                };
+                let s = filtered_block(i, j as usize, block, diagonal, projection);
                 let range = self.scatter_start[k] as usize..self.scatter_start[k + 1] as usize;
                 for c in &self.scatter[range] {
-                    let add = c.weight * s;
-                    self.matrix.block[c.index as usize] += match c.mode {
-                        0 => add,
-                        1 => add.transpose(),
-                        _ => add + add.transpose(),
-                    };
+                    self.matrix.block[c.index as usize] += c.contribution(s);
                 }
                 k += 1;
             }
         }
+        self.factor_matrix()
+    }
+
+    /// Forms again only the coarse blocks fed by the fine nodes `changed`, whose filter or
+    /// diagonal block changed while `rows` stayed as at the last [`Self::factor`] (a step's
+    /// repeated pass, where a few holds gave way), and factors A_c. Each block recomputed sums
+    /// its contributions in [`Self::factor`]'s order, so A_c and its factor equal a whole
+    /// [`Self::factor`]'s to the last bit.
+    pub fn refactor_through(
+        &mut self,
+        changed: &[u32],
+        rows: &ParticleMatrix,
+        diagonal: &[DMat3],
+        projection: &[DMat3],
+    ) -> bool {
+        let mut blocks = Vec::new();
+        for &node in changed {
+            let node = node as usize;
+            let own = self.block_start[node]..self.block_start[node + 1];
+            let below =
+                &self.lower_block[self.lower_start[node] as usize..self.lower_start[node + 1] as usize];
+            for k in own.chain(below.iter().copied()) {
+                let k = k as usize;
+                for c in &self.scatter[self.scatter_start[k] as usize..self.scatter_start[k + 1] as usize] {
+                    if !std::mem::replace(&mut self.marked[c.index as usize], true) {
+                        blocks.push(c.index);
+                    }
+                }
+            }
+        }
+        for index in blocks {
+            let index = index as usize;
+            self.marked[index] = false;
+            let mut sum = DMat3::ZERO;
+            let feeding = self.contributor_start[index] as usize..self.contributor_start[index + 1] as usize;
+            for (&at, &k) in self.contributors[feeding.clone()]
+                .iter()
+                .zip(&self.contributor_block[feeding])
+            {
+                let i = self.block_row[k as usize] as usize;
+                let (columns, fine) = rows.row(i);
+                let d = (k - self.block_start[i]) as usize;
+                let s = filtered_block(i, columns[d] as usize, &fine[d], diagonal, projection);
+                sum += self.scatter[at as usize].contribution(s);
+            }
+            self.matrix.block[index] = sum;
+        }
+        self.factor_matrix()
+    }
+
+    /// Factors the coarse matrix as it stands.
+    fn factor_matrix(&mut self) -> bool {
         self.factored = self
             .cholesky
             .factor(&self.matrix, &self.zeros, &self.identities, &self.zeros);

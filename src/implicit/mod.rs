@@ -56,7 +56,7 @@ pub use coarse_grid::CoarseGrid;
 pub use conjugate_gradient::{CgReport, Stop, conjugate_gradient};
 pub use implicit_solver::ImplicitSolver;
 pub use link_supports::{LinkAnchors, LinkSupport};
-pub use preconditioner::{Preconditioner, TWO_LEVEL_FROM_NODES};
+pub use preconditioner::{KEEP_COARSE_FOR_RELEASED, Preconditioner, TWO_LEVEL_FROM_NODES};
 pub use scheme::{Bdf2History, Scheme};
 pub use solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats, LINK_TOLERANCE};
 pub use sparse_cholesky::SparseCholesky;

@@ -29,8 +29,11 @@ pub enum Preconditioner {
     ThreadLines,
     /// The thread lines plus a correction on a lattice `coarsening` times coarser
     /// ([`super::CoarseGrid`]), whose Galerkin system is factored by sparse Cholesky. Both are
-    /// refactored at every solve pass, so a step's result depends on that step's system alone
-    /// (a resumed run ends where an uninterrupted one does).
+    /// factored afresh at each step's first pass, so a step's result depends on that step's
+    /// system alone (a resumed run ends where an uninterrupted one does). A repeated pass (holds
+    /// gave way) refactors only the thread chains through the released nodes, and keeps the
+    /// first pass's coarse factor when at most [`KEEP_COARSE_FOR_RELEASED`] were released
+    /// (`docs/model.md` §12).
     TwoLevel {
         /// Coarse spacing over the cloth's spacing (dimensionless, 2 to 16; 4 recommended).
         coarsening: usize,
@@ -41,6 +44,14 @@ pub enum Preconditioner {
 /// 2,025 nodes both take the same time a step, at 8,093 the two-level one takes a third of
 /// block Jacobi's wall time to a settled drape (thick cotton, `docs/model.md` §12).
 pub const TWO_LEVEL_FROM_NODES: usize = 5_000;
+
+/// Most released holds for which a step's repeated pass keeps the first pass's coarse factor,
+/// built with those nodes held. The kept factor is still symmetric positive definite, so the
+/// solve reaches the same tolerance. Kept for a few released nodes, the products barely change
+/// (thin wool at 2.5 mm settling on the drapemeter: 8.19 a step against 8.12, where the coarse
+/// factor's set-up costs the time of about 20); kept whatever the number released, the same
+/// drape needed 9.7 a step and came to rest at 4.6 s instead of 1.3 s (`docs/model.md` §12).
+pub const KEEP_COARSE_FOR_RELEASED: usize = 8;
 
 impl Preconditioner {
     /// The preconditioner in words (for `kes-cloth check`).

@@ -14,7 +14,7 @@ use glam::{DMat3, DVec3};
 use crate::forces::{ClothTopology, ParticleMatrix};
 
 /// One thread's chain of nodes, in order along the thread.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 struct Chain {
     /// First entry of this chain in [`ThreadLines::nodes`].
     start: usize,
@@ -41,6 +41,12 @@ pub struct ThreadLines {
     lower: Vec<[DMat3; 2]>,
     /// Intermediate values of a solve, per entry.
     work: Vec<DVec3>,
+    /// The chain of each entry.
+    entry_chain: Vec<u32>,
+    /// Each node's entry in its warp chain and in its weft chain ([`NONE`] if in none).
+    node_entries: Vec<[u32; 2]>,
+    /// Whether every chain's last factorisation succeeded.
+    factored: bool,
 }
 
 impl ThreadLines {
@@ -51,7 +57,8 @@ impl ThreadLines {
         let mut nodes = Vec::with_capacity(2 * n);
         let mut chains = Vec::new();
         let (warp, weft) = topology.links.split_at(topology.warp_link_count);
-        for links in [warp, weft] {
+        let mut warp_chains = 0;
+        for (direction, links) in [warp, weft].into_iter().enumerate() {
             let mut next = vec![NONE; n];
             let mut has_previous = vec![false; n];
             for &[p, q] in links {
@@ -70,6 +77,9 @@ impl ThreadLines {
                     len: nodes.len() - start,
                 });
             }
+            if direction == 0 {
+                warp_chains = chains.len();
+            }
         }
         // Links run towards higher particle indices, so the block (p, q) of a later node q is
         // stored in p's row.
@@ -86,6 +96,15 @@ impl ThreadLines {
             }
         }
         let entries = nodes.len();
+        let mut entry_chain = vec![0; entries];
+        let mut node_entries = vec![[NONE; 2]; n];
+        for (c, chain) in chains.iter().enumerate() {
+            let direction = usize::from(c >= warp_chains);
+            for k in chain.start..chain.start + chain.len {
+                entry_chain[k] = c as u32;
+                node_entries[nodes[k] as usize][direction] = k as u32;
+            }
+        }
         Self {
             nodes,
             chains,
@@ -94,6 +113,9 @@ impl ThreadLines {
             pivot_inverse: vec![DMat3::ZERO; entries],
             lower: vec![[DMat3::ZERO; 2]; entries],
             work: vec![DVec3::ZERO; entries],
+            entry_chain,
+            node_entries,
+            factored: false,
         }
     }
 
@@ -101,6 +123,47 @@ impl ThreadLines {
     /// node; `diagonal` holds each node's diagonal block of S, kg). Returns `false` if a pivot
     /// is not positive definite (the caller then falls back to block Jacobi).
     pub fn factor(&mut self, rows: &ParticleMatrix, diagonal: &[DMat3], projection: &[DMat3]) -> bool {
+        self.factored = (0..self.chains.len()).all(|c| self.factor_chain(c, rows, diagonal, projection));
+        self.factored
+    }
+
+    /// Refactors only the chains through the nodes `changed`, after their filter or diagonal
+    /// block changed while `rows` stayed as at the last [`Self::factor`] (a step's repeated
+    /// pass, where a few holds gave way): every other chain's band is unchanged, so the result
+    /// equals a whole [`Self::factor`] to the last bit. Factors every chain if the last factor
+    /// failed.
+    pub fn refactor_through(
+        &mut self,
+        changed: &[u32],
+        rows: &ParticleMatrix,
+        diagonal: &[DMat3],
+        projection: &[DMat3],
+    ) -> bool {
+        if !self.factored {
+            return self.factor(rows, diagonal, projection);
+        }
+        let mut chains: Vec<u32> = changed
+            .iter()
+            .flat_map(|&p| self.node_entries[p as usize])
+            .filter(|&k| k != NONE)
+            .map(|k| self.entry_chain[k as usize])
+            .collect();
+        chains.sort_unstable();
+        chains.dedup();
+        self.factored = chains
+            .into_iter()
+            .all(|c| self.factor_chain(c as usize, rows, diagonal, projection));
+        self.factored
+    }
+
+    /// Factors chain `c`'s band ([`Self::factor`]); `false` if a pivot is not positive definite.
+    fn factor_chain(
+        &mut self,
+        c: usize,
+        rows: &ParticleMatrix,
+        diagonal: &[DMat3],
+        projection: &[DMat3],
+    ) -> bool {
         // S_{k+d,k} = (P_k·A_{k,k+d}·P_{k+d})ᵀ for d = 1, 2 (zero where not stored).
         let below = |nodes: &[u32], ahead: &[[u32; 2]], k: usize, d: usize| -> DMat3 {
             let at = ahead[k][d - 1];
@@ -110,34 +173,37 @@ impl ThreadLines {
             let i = nodes[k] as usize;
             let (columns, blocks) = rows.row(i);
             let j = columns[at as usize] as usize;
-            (projection[i] * blocks[at as usize] * projection[j]).transpose()
-        };
-        for chain in &self.chains {
-            let start = chain.start;
-            for k in start..start + chain.len {
-                let i = self.nodes[k] as usize;
-                // D_k = S_kk − Σ_j L_kj·D_j·L_kjᵀ over the two entries before k.
-                let mut pivot = diagonal[i];
-                for d in 1..=2 {
-                    if k >= start + d {
-                        let l = self.lower[k - d][d - 1];
-                        pivot -= l * self.pivot[k - d] * l.transpose();
-                    }
-                }
-                if !positive_definite(&pivot) {
-                    return false;
-                }
-                let inverse = pivot.inverse();
-                self.pivot[k] = pivot;
-                self.pivot_inverse[k] = inverse;
-                // L_{k+1,k} = (S_{k+1,k} − L_{k+1,k−1}·D_{k−1}·L_{k,k−1}ᵀ)·D_k⁻¹; L_{k+2,k} = S_{k+2,k}·D_k⁻¹.
-                let mut next = below(&self.nodes, &self.ahead, k, 1);
-                if k > start {
-                    next -= self.lower[k - 1][1] * self.pivot[k - 1] * self.lower[k - 1][0].transpose();
-                }
-                let next2 = below(&self.nodes, &self.ahead, k, 2);
-                self.lower[k] = [next * inverse, next2 * inverse];
+            let block = blocks[at as usize];
+            if projection[i] == DMat3::IDENTITY && projection[j] == DMat3::IDENTITY {
+                block.transpose()
+            } else {
+                (projection[i] * block * projection[j]).transpose()
             }
+        };
+        let Chain { start, len } = self.chains[c];
+        for k in start..start + len {
+            let i = self.nodes[k] as usize;
+            // D_k = S_kk − Σ_j L_kj·D_j·L_kjᵀ over the two entries before k.
+            let mut pivot = diagonal[i];
+            for d in 1..=2 {
+                if k >= start + d {
+                    let l = self.lower[k - d][d - 1];
+                    pivot -= l * self.pivot[k - d] * l.transpose();
+                }
+            }
+            if !positive_definite(&pivot) {
+                return false;
+            }
+            let inverse = pivot.inverse();
+            self.pivot[k] = pivot;
+            self.pivot_inverse[k] = inverse;
+            // L_{k+1,k} = (S_{k+1,k} − L_{k+1,k−1}·D_{k−1}·L_{k,k−1}ᵀ)·D_k⁻¹; L_{k+2,k} = S_{k+2,k}·D_k⁻¹.
+            let mut next = below(&self.nodes, &self.ahead, k, 1);
+            if k > start {
+                next -= self.lower[k - 1][1] * self.pivot[k - 1] * self.lower[k - 1][0].transpose();
+            }
+            let next2 = below(&self.nodes, &self.ahead, k, 2);
+            self.lower[k] = [next * inverse, next2 * inverse];
         }
         true
     }

@@ -15,7 +15,7 @@ use glam::{DMat3, DVec3};
 use super::carriers::Carriers;
 use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-use super::preconditioner::{Active, Preconditioner};
+use super::preconditioner::{Active, KEEP_COARSE_FOR_RELEASED, Preconditioner};
 use super::scheme::{Bdf2History, Scheme};
 use super::solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats, LINK_TOLERANCE};
 use super::sparse_cholesky::SparseCholesky;
@@ -107,6 +107,9 @@ pub struct ImplicitSolver {
     filtered_diagonal: Vec<DMat3>,
     /// The preconditioner in use ([`ImplicitSettings::preconditioner`] for this cloth's size).
     method: Preconditioner,
+    /// The nodes whose hold gave way in this step's last pass (their filter and diagonal block
+    /// changed, the rest of the system did not).
+    released: Vec<u32>,
     /// Products the last solve pass needed (decides a refactorisation).
     last_products: usize,
     /// BDF2's history (`None` before its first step, or with backward Euler).
@@ -159,6 +162,7 @@ impl ImplicitSolver {
             projection: vec![DMat3::IDENTITY; n],
             filtered_diagonal: vec![DMat3::ZERO; n],
             method: settings.preconditioner.for_nodes(n),
+            released: Vec::new(),
             last_products: usize::MAX,
             bdf2: None,
             state_velocities: vec![DVec3::ZERO; n],
@@ -355,6 +359,7 @@ impl ImplicitSolver {
             v.resize(len, DVec3::ZERO);
         }
         let mut changes = Vec::new();
+        self.released.clear();
         for pass in 0..passes {
             // Supported nodes: our Δv has no component along the support normal (Baraff &
             // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
@@ -441,10 +446,12 @@ impl ImplicitSolver {
                     if ready { Active::Cholesky } else { Active::Jacobi }
                 }
                 Preconditioner::ThreadLines | Preconditioner::TwoLevel { .. } => {
-                    // The thread lines are refactored every pass (kept while solves stay short,
-                    // as the coarse factor is, thin wool at 2.5 mm took 30 products a step
-                    // instead of 22, and 91 ms a step instead of 86); the coarse factor is kept
-                    // while solves stay short.
+                    // Both factors are formed afresh at each step's first pass. A repeated pass
+                    // (holds gave way) changes only the released nodes' filter and diagonal
+                    // block: it refactors only the thread chains through them, which equals a
+                    // whole refactorisation to the last bit, and keeps the first pass's coarse
+                    // factor unless more than KEEP_COARSE_FOR_RELEASED were released (then it
+                    // forms again only the coarse blocks they feed, also exact).
                     let filtered = blocks::Filtered {
                         diagonal: &self.diagonal,
                         projection: &self.projection,
@@ -457,15 +464,22 @@ impl ImplicitSolver {
                             self.coarse = CoarseGrid::new(topo, rows, coarsening);
                         }
                         if let Some(coarse) = self.coarse.as_mut() {
-                            coarse.factor(rows, &self.filtered_diagonal, &self.projection);
+                            let (diagonal, projection) = (&self.filtered_diagonal, &self.projection);
+                            if pass == 0 {
+                                coarse.factor(rows, diagonal, projection);
+                            } else if self.released.len() > KEEP_COARSE_FOR_RELEASED {
+                                coarse.refactor_through(&self.released, rows, diagonal, projection);
+                            }
                         }
                     }
                     let lines = self.lines.get_or_insert_with(|| ThreadLines::new(topo, rows));
-                    if lines.factor(rows, &self.filtered_diagonal, &self.projection) {
-                        Active::Lines
+                    let (diagonal, projection) = (&self.filtered_diagonal, &self.projection);
+                    let factored = if pass == 0 {
+                        lines.factor(rows, diagonal, projection)
                     } else {
-                        Active::Jacobi
-                    }
+                        lines.refactor_through(&self.released, rows, diagonal, projection)
+                    };
+                    if factored { Active::Lines } else { Active::Jacobi }
                 }
                 Preconditioner::BlockJacobi | Preconditioner::Auto => Active::Jacobi,
             };
@@ -591,6 +605,7 @@ impl ImplicitSolver {
                     self.sliding_impulse[i] = mu * normal.max(0.0);
                     self.sliding_drag[i] = self.sliding_impulse[i] / speed;
                     self.fixed[i] = false;
+                    self.released.push(i as u32);
                     released = true;
                 }
             }
