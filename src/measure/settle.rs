@@ -10,8 +10,8 @@
 //!
 //! The confirmation watch exists because a quiet window can be a slow passage, not rest: a
 //! light skirt can come almost to rest on a shape that is not stable (a fold about to open) and
-//! leave it along a slowly growing mode, nodes at 0.15 mm/s accelerating to 5 mm/s over 3–4 s
-//! (thin wool on the Cusick tester, `docs/model.md` §1, "Rest"). A quiet window the watch
+//! leave it along a slowly growing mode, nodes accelerating from a fraction of a mm/s to several
+//! mm/s over seconds (thin wool on the Cusick tester, `docs/model.md` §1, "Rest"). A quiet window the watch
 //! undoes is counted in [`SettleState::restarts`] and the windows start again from that moment.
 
 use std::collections::VecDeque;
