@@ -127,8 +127,10 @@ pub struct CoarseGrid {
     contributor_block: Vec<u32>,
     /// Each fine block's row.
     block_row: Vec<u32>,
-    /// Scratch of [`Self::refactor_through`]: which coarse blocks it recomputes.
+    /// Scratch of [`Self::refactor_through`]: which coarse blocks it recomputes, as flags and
+    /// as a list.
     marked: Vec<bool>,
+    touched: Vec<u32>,
 }
 
 impl CoarseGrid {
@@ -231,7 +233,7 @@ impl CoarseGrid {
         let mut lower: Vec<Vec<u32>> = vec![Vec::new(); parents.len()];
         for i in 0..parents.len() {
             let (fine_columns, _) = rows.row(i);
-            let first = *block_start.last().unwrap();
+            let first = block_start[i];
             for (d, &j) in fine_columns.iter().enumerate() {
                 if j as usize != i {
                     lower[j as usize].push(first + d as u32);
@@ -262,6 +264,7 @@ impl CoarseGrid {
             contributor_block,
             block_row,
             marked,
+            touched: Vec::new(),
             scatter,
             scatter_start,
             parents,
@@ -312,7 +315,8 @@ impl CoarseGrid {
         diagonal: &[DMat3],
         projection: &[DMat3],
     ) -> bool {
-        let mut blocks = Vec::new();
+        let mut blocks = std::mem::take(&mut self.touched);
+        blocks.clear();
         for &node in changed {
             let node = node as usize;
             let own = self.block_start[node]..self.block_start[node + 1];
@@ -327,7 +331,7 @@ impl CoarseGrid {
                 }
             }
         }
-        for index in blocks {
+        for &index in &blocks {
             let index = index as usize;
             self.marked[index] = false;
             let mut sum = DMat3::ZERO;
@@ -344,6 +348,7 @@ impl CoarseGrid {
             }
             self.matrix.block[index] = sum;
         }
+        self.touched = blocks;
         self.factor_matrix()
     }
 

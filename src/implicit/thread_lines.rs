@@ -47,6 +47,8 @@ pub struct ThreadLines {
     node_entries: Vec<[u32; 2]>,
     /// Whether every chain's last factorisation succeeded.
     factored: bool,
+    /// Scratch of [`Self::refactor_through`]: the chains it refactors.
+    touched: Vec<u32>,
 }
 
 impl ThreadLines {
@@ -116,6 +118,7 @@ impl ThreadLines {
             entry_chain,
             node_entries,
             factored: false,
+            touched: Vec::new(),
         }
     }
 
@@ -142,17 +145,21 @@ impl ThreadLines {
         if !self.factored {
             return self.factor(rows, diagonal, projection);
         }
-        let mut chains: Vec<u32> = changed
-            .iter()
-            .flat_map(|&p| self.node_entries[p as usize])
-            .filter(|&k| k != NONE)
-            .map(|k| self.entry_chain[k as usize])
-            .collect();
+        let mut chains = std::mem::take(&mut self.touched);
+        chains.clear();
+        chains.extend(
+            changed
+                .iter()
+                .flat_map(|&p| self.node_entries[p as usize])
+                .filter(|&k| k != NONE)
+                .map(|k| self.entry_chain[k as usize]),
+        );
         chains.sort_unstable();
         chains.dedup();
         self.factored = chains
-            .into_iter()
-            .all(|c| self.factor_chain(c as usize, rows, diagonal, projection));
+            .iter()
+            .all(|&c| self.factor_chain(c as usize, rows, diagonal, projection));
+        self.touched = chains;
         self.factored
     }
 
