@@ -4,6 +4,7 @@
 //! to rest: no failure, no node or body below the floor.
 
 use glam::DVec3;
+use kes_cloth::batch::parallel_map;
 use kes_cloth::embed::{ClothBuilder, ClothOutline, prepare_world};
 use kes_cloth::schedule::Physics;
 use rapier3d::prelude::*;
@@ -173,34 +174,44 @@ fn run(fabric: &str, hz: f64, lower_face: bool) -> Outcome {
 /// (lowest point -0.12 mm, resting on the floor).
 #[test]
 fn bodies_dropped_onto_a_cloth_on_a_floor_are_caught_and_come_to_rest_at_the_hosts_step() {
+    let cases: Vec<(String, f64, bool)> = common::shipped_fabric_paths()
+        .iter()
+        .flat_map(|path| {
+            let stem = path.file_stem().and_then(|s| s.to_str()).expect("a file stem");
+            [(60.0, false), (240.0, false), (60.0, true), (240.0, true)]
+                .map(|(hz, lower_face)| (stem.to_string(), hz, lower_face))
+        })
+        .collect();
+    // Each case is its own world; two run at a time.
+    let outcomes = parallel_map(cases.len(), 2, |i| {
+        let (stem, hz, lower_face) = &cases[i];
+        run(stem, *hz, *lower_face)
+    });
     let mut report = Vec::new();
-    for path in common::shipped_fabric_paths() {
-        let stem = path.file_stem().and_then(|s| s.to_str()).expect("a file stem");
-        for (hz, lower_face) in [(60.0, false), (240.0, false), (60.0, true), (240.0, true)] {
-            let o = run(stem, hz, lower_face);
-            let rests_on = if lower_face { "lower face" } else { "nodes' balls" };
-            report.push(format!(
-                "{stem} 1/{hz} s on its {rests_on}: at rest from {:?} s after the throw, lowest node {:.2} mm, lowest body point {:.2} mm",
-                o.rest_after,
-                o.lowest_node * 1e3,
-                o.lowest_body * 1e3
-            ));
-            assert!(
-                o.lowest_node >= 0.0,
-                "{stem} at 1/{hz} s: a node below the floor: {}",
-                report.last().unwrap()
-            );
-            assert!(
-                o.lowest_body >= -1e-3,
-                "{stem} at 1/{hz} s: a body below the floor: {}",
-                report.last().unwrap()
-            );
-            assert!(
-                o.rest_after.is_some_and(|t| t <= 3.0),
-                "{stem} at 1/{hz} s not at rest: {}",
-                report.last().unwrap()
-            );
-        }
+    for ((stem, hz, lower_face), o) in cases.iter().zip(outcomes) {
+        let (hz, lower_face) = (*hz, *lower_face);
+        let rests_on = if lower_face { "lower face" } else { "nodes' balls" };
+        report.push(format!(
+            "{stem} 1/{hz} s on its {rests_on}: at rest from {:?} s after the throw, lowest node {:.2} mm, lowest body point {:.2} mm",
+            o.rest_after,
+            o.lowest_node * 1e3,
+            o.lowest_body * 1e3
+        ));
+        assert!(
+            o.lowest_node >= 0.0,
+            "{stem} at 1/{hz} s: a node below the floor: {}",
+            report.last().unwrap()
+        );
+        assert!(
+            o.lowest_body >= -1e-3,
+            "{stem} at 1/{hz} s: a body below the floor: {}",
+            report.last().unwrap()
+        );
+        assert!(
+            o.rest_after.is_some_and(|t| t <= 3.0),
+            "{stem} at 1/{hz} s not at rest: {}",
+            report.last().unwrap()
+        );
     }
     println!("{}", report.join("\n"));
 }

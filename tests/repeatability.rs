@@ -1,8 +1,9 @@
 //! The same scene, seed and build give bit-identical results: every metric except wall-clock
 //! times, and every node position, bit for bit (the simulation is single-threaded and
-//! deterministic; parallel repeats run whole scenes per thread).
+//! deterministic; parallel repeats run whole scenes per thread, and the two runs here run side
+//! by side on two threads).
 
-use kes_cloth::run::{RunOptions, simulate};
+use kes_cloth::repeat::simulate_all;
 use kes_cloth::scene::Scene;
 
 mod common;
@@ -36,8 +37,10 @@ fn a_scene_run_twice_gives_bit_identical_results() {
             .chain(sets.into_iter().map(String::from))
             .collect();
         let scene = Scene::load(common::crate_path(scene), &sets).unwrap();
-        let a = simulate(&scene, &RunOptions::default());
-        let b = simulate(&scene, &RunOptions::default());
+        // The two runs side by side, one on each of two threads.
+        let [a, b]: [_; 2] = simulate_all(&[scene.clone(), scene.clone()], 2, |_, _| {})
+            .try_into()
+            .expect("two outcomes");
         assert_eq!(
             common::without_clock_times(&a.metrics),
             common::without_clock_times(&b.metrics)
