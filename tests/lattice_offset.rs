@@ -225,21 +225,24 @@ fn a_smooth_start_keeps_its_amplitude_on_fine_lattices() {
 
 /// Thick cotton's drape as shipped is the fabric's, not the lattice's, to the target of 0.01:
 /// on the seed's drapemeter (3.75 mm, the smooth start), three placements (run 0 centred, all
-/// at seed 0) give a DC standard deviation of at most 0.01 and one node count (measured over
-/// four: 0.755 ± 0.007, 4 nodes each), and their mean lies within 0.01 of the same drape on a
-/// lattice 1.5 times finer (2.5 mm, centred), with the same node count. The 2.5 mm run stands for
-/// the converged drape: over four placements it is 0.753 ± 0.003, and `kes-cloth converge` over
-/// 5 / 3.75 / 2.5 mm extrapolates 0.753 ± 0.007 (`docs/accuracy.md`). Thin wool's ± 0.012 misses
-/// the spread target at 3.75 mm and meets it at its shipped 2.5 mm (`tests/shipped_scenes.rs`).
+/// at seed 0) give a DC standard deviation of at most 0.01 and one node count (measured: 0.736 ±
+/// 0.007 over these three, 0.735 ± 0.007 over four, 4 nodes each), and their mean lies within
+/// 0.01 of the same drape on a lattice 1.5 times finer (2.5 mm, centred; measured 0.735), with
+/// the same node count. Over four placements 2.5 mm gives 0.740 ± 0.003, and `kes-cloth
+/// converge` over 3.75 / 2.5 / 1.875 mm extrapolates 0.741 ± 0.011 (`docs/accuracy.md`): the
+/// rim's first-order term, about 0.005 a refinement, is below this test's 0.01. Thin wool's
+/// ± 0.015 misses the spread target at 3.75 mm and meets it at its shipped 2.5 mm
+/// (`tests/shipped_scenes.rs`).
 #[test]
 fn thick_cottons_drape_moves_by_less_than_a_hundredth_with_placement_or_a_finer_lattice() {
     let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &[]).unwrap();
-    let mut runs = kes_cloth::repeat::repeat_scenes(&scene, 3, true);
+    // The 2.5 mm run, the longest, starts first, so that the two cores stay busy.
     let finer = ["cloth.spacing_m=0.0025".to_string()];
-    runs.push(Scene::load(common::crate_path("scenes/drape_cotton.ron"), &finer).unwrap());
+    let mut runs = vec![Scene::load(common::crate_path("scenes/drape_cotton.ron"), &finer).unwrap()];
+    runs.extend(kes_cloth::repeat::repeat_scenes(&scene, 3, true));
     let outcomes = kes_cloth::repeat::simulate_all(&runs, 2, |_, _| {});
     let metrics: Vec<_> = outcomes.iter().map(|o| &o.metrics).collect();
-    let s = kes_cloth::repeat::summarise_metrics(&metrics[..3]);
+    let s = kes_cloth::repeat::summarise_metrics(&metrics[1..]);
     assert_eq!(s.settled, 3, "{s:?}");
     let sd = s.dc_std.expect("a DC each");
     let mean = s.dc_mean.expect("a DC each");
@@ -249,7 +252,7 @@ fn thick_cottons_drape_moves_by_less_than_a_hundredth_with_placement_or_a_finer_
         "node counts {:?}",
         s.nodes
     );
-    let fine = metrics[3];
+    let fine = metrics[0];
     assert!(fine.settled, "the 2.5 mm drape is not at rest");
     let fine_dc = fine.drape_coefficient.expect("a DC");
     println!(

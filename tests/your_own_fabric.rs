@@ -68,8 +68,9 @@ fn the_readmes_own_fabric_steps_end_in_a_report_with_the_cloth_in_3d() {
     let out = work.join("out");
     let (fabrics_arg, out_arg) = (fabrics.to_str().expect("utf-8"), out.to_str().expect("utf-8"));
     // Steps 2–4 of the README, with the folders placed in the test's own directory and the
-    // drape at 5 mm instead of the tester's 2.5 mm for thin wool: this test checks the steps and
-    // the report, not the drape's numbers (the tester's spacing rule: `tests/drape_testers.rs`).
+    // drape at 5 mm instead of the tester's 2.5 mm for thin wool, at rest after its first quiet
+    // window (no confirmation watch): this test checks the steps and the report, not the
+    // drape's numbers (the tester's spacing rule: `tests/drape_testers.rs`).
     kes_cloth(&[
         "fabric",
         "import",
@@ -87,6 +88,8 @@ fn the_readmes_own_fabric_steps_end_in_a_report_with_the_cloth_in_3d() {
         "cusick-30",
         "--set",
         "cloth.spacing_m=0.005",
+        "--set",
+        "integration.settle.confirm_s=0",
         "--out",
         out_arg,
         "--quiet",
