@@ -3,6 +3,7 @@
 
 mod blocks;
 mod coupling;
+mod friction_release;
 mod friction_start;
 mod kick;
 mod saved_state;
@@ -574,41 +575,30 @@ impl ImplicitSolver {
             rows.product(&self.dv[..n], ax);
             // The last pass only judges the supports: a release there could not be solved (with
             // NextStep, the one pass marks it for the next step).
-            let may_release = pass + 1 < passes;
-            let mut released = false;
-            for (i, pressed) in self.pressed.iter_mut().enumerate() {
-                let n = normals[i];
-                let impulse = masses[i] * self.dv[i] + ax[i] - self.unfiltered_rhs[i];
-                let normal = impulse.dot(n);
-                *pressed = n != DVec3::ZERO && normal >= 0.0;
-                let holding = self.fixed[i] && !self.held[i];
-                let sideways = tangential(n, impulse).length();
-                let mu = self.supports.friction[i];
-                if self.sliding_drag[i] > 0.0 {
-                    self.sliding_impulse[i] = mu * normal.max(0.0);
-                }
-                if next_step && holding && sideways > mu * normal.max(0.0) {
-                    // Held through this step; from the next it slides against μ·λ_n.
-                    self.sliding_impulse[i] = mu * normal.max(0.0);
-                    self.release_next[i] = true;
-                    continue;
-                }
-                if may_release && holding && sideways > mu * normal.max(0.0) {
-                    // It slides: the surface resists with kinetic friction μ·λ_n against the
-                    // sliding, which the solve takes as a drag μ·λ_n/s, s the node's sliding
-                    // speed at the step's start (at least FRICTION_SPEED), so it cannot reverse
-                    // the motion. A node starting from rest thus speeds up by at most
-                    // |λ_t|/(μ·λ_n) a step until the drag is Coulomb's; any larger estimate of
-                    // s (from the hold's excess impulse) let rim nodes overshoot and flicker at
-                    // 50 mm/s on the drapemeter (docs/model.md §12).
-                    let speed = tangential(n, velocities[i]).length().max(FRICTION_SPEED);
-                    self.sliding_impulse[i] = mu * normal.max(0.0);
-                    self.sliding_drag[i] = self.sliding_impulse[i] / speed;
-                    self.fixed[i] = false;
-                    self.released.push(i as u32);
-                    released = true;
-                }
-            }
+            let released = friction_release::judge_holds(
+                friction_release::Pass {
+                    normals,
+                    friction: &self.supports.friction,
+                    held: &self.held,
+                    masses,
+                    dv: &self.dv,
+                    product: ax,
+                    rhs: &self.unfiltered_rhs,
+                    velocities,
+                },
+                friction_start::Holds {
+                    fixed: &mut self.fixed,
+                    drag: &mut self.sliding_drag,
+                    impulse: &mut self.sliding_impulse,
+                    release_next: &mut self.release_next,
+                },
+                &mut self.pressed,
+                &mut self.released,
+                friction_release::Release {
+                    next_step,
+                    now: pass + 1 < passes,
+                },
+            );
             if !released {
                 break;
             }
