@@ -20,7 +20,8 @@ pub(super) struct Pass<'a> {
     pub masses: &'a [f64],
     /// The pass's velocity change Δv (m/s).
     pub dv: &'a [DVec3],
-    /// The system's product with Δv without its mass term, (h·C + h²·H)·Δv (N·s).
+    /// The step's matrix without its mass term (h²·H + h·C at the scheme's step h, with the
+    /// particle diagonal of the supports' links) times Δv (N·s).
     pub product: &'a [DVec3],
     /// The right-hand side b + h·M·g before the filter (N·s).
     pub rhs: &'a [DVec3],
