@@ -3,9 +3,11 @@
 
 mod blocks;
 mod coupling;
+mod factors;
 mod friction_release;
 mod friction_start;
 mod kick;
+mod prescribed;
 mod saved_state;
 mod vectors;
 
@@ -14,18 +16,15 @@ use std::sync::Arc;
 use glam::{DMat3, DVec3};
 
 use super::carriers::Carriers;
-use super::coarse_grid::CoarseGrid;
 use super::conjugate_gradient::{CgReport, Stop, conjugate_gradient};
-use super::preconditioner::{Active, KEEP_COARSE_FOR_RELEASED, Preconditioner};
 use super::scheme::{Bdf2History, Scheme};
 use super::solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats, LINK_TOLERANCE};
-use super::sparse_cholesky::SparseCholesky;
 use super::supports::Supports;
-use super::thread_lines::ThreadLines;
 use crate::forces::{
     ClothGeometry, ClothTopology, ForceBuffer, ForceGenerator, LinkMatrix, ParticleMatrix, Perturbation,
 };
 use coupling::Coupling;
+use factors::{Factors, PassSystem};
 use vectors::{filter, tangential, total_mass};
 
 /// The implicit solve of one cloth: settings, node mass, warm start and scratch buffers.
@@ -46,8 +45,6 @@ pub struct ImplicitSolver {
     rows: ParticleMatrix,
     /// A product's result (scratch).
     ax: Vec<DVec3>,
-    /// Inverse of each node's 3×3 diagonal block of the filtered system (block Jacobi).
-    preconditioner: Vec<DMat3>,
     perturbation: Perturbation,
     product: ForceBuffer,
     /// The fixed surfaces under the nodes in Rapier's last step. Set before each
@@ -94,25 +91,11 @@ pub struct ImplicitSolver {
     /// node's Δv is zero. Set before each [`Self::solve`] (e.g. by
     /// [`crate::bodies::ClothBodies::read_pin_velocities`]).
     pub pin_velocities: Vec<Option<DVec3>>,
-    /// The sparse Cholesky preconditioner, built at the first solve that asks for it (`None`
-    /// before, with block Jacobi, or if faer could not analyse the system).
-    cholesky: Option<SparseCholesky>,
-    /// The thread-line preconditioner, built at the first solve that asks for it.
-    lines: Option<ThreadLines>,
-    /// The coarse-lattice correction, built at the first solve that asks for it (`None` before,
-    /// or if faer could not analyse it).
-    coarse: Option<CoarseGrid>,
-    /// Each node's filter this pass as a matrix (I, a support's plane, or 0), for the factor.
-    projection: Vec<DMat3>,
-    /// Each node's diagonal block of the filtered system S (kg), for the thread lines.
-    filtered_diagonal: Vec<DMat3>,
-    /// The preconditioner in use ([`ImplicitSettings::preconditioner`] for this cloth's size).
-    method: Preconditioner,
+    /// The preconditioner and its factors.
+    factors: Factors,
     /// The nodes whose hold gave way in this step's last pass (their filter and diagonal block
     /// changed, the rest of the system did not).
     released: Vec<u32>,
-    /// Products the last solve pass needed (decides a refactorisation).
-    last_products: usize,
     /// BDF2's history (`None` before its first step, or with backward Euler).
     bdf2: Option<Bdf2History>,
     /// The scheme's velocity of each node this step (m/s; with BDF2, Rapier's plus the lag).
@@ -141,7 +124,6 @@ impl ImplicitSolver {
             rows: ParticleMatrix::new(&topology, &matrix),
             matrix,
             ax: vec![DVec3::ZERO; n],
-            preconditioner: vec![DMat3::ZERO; n],
             perturbation: Perturbation::new(&topology),
             supports: Supports::new(n),
             carriers: Carriers::new(n),
@@ -157,26 +139,14 @@ impl ImplicitSolver {
             unfiltered_rhs: vec![DVec3::ZERO; n],
             held: vec![false; n],
             pin_velocities: vec![None; n],
-            cholesky: None,
-            lines: None,
-            coarse: None,
-            projection: vec![DMat3::IDENTITY; n],
-            filtered_diagonal: vec![DMat3::ZERO; n],
-            method: settings.preconditioner.for_nodes(n),
+            factors: Factors::new(settings.preconditioner.for_nodes(n), n),
             released: Vec::new(),
-            last_products: usize::MAX,
             bdf2: None,
             state_velocities: vec![DVec3::ZERO; n],
             product: ForceBuffer::new(&topology),
             stats: ImplicitStats::default(),
             topology,
         }
-    }
-
-    /// Numeric factorisations this solver's factors have done (sparse Cholesky and coarse).
-    fn factorisations(&self) -> u64 {
-        self.cholesky.as_ref().map_or(0, |c| c.factorisations)
-            + self.coarse.as_ref().map_or(0, |c| c.factorisations())
     }
 
     /// Holds `node` in place in every solve: for a node pinned to a fixed or kinematic body,
@@ -224,7 +194,7 @@ impl ImplicitSolver {
         // touches the surface and the surface pushed it in the last solve: otherwise a node that
         // the filter keeps off the surface is released, pulled back onto it by the cloth, and
         // held again, every other step.
-        let factorisations_before = self.factorisations();
+        let factorisations_before = self.factors.factorisations();
         let assembly_start = std::time::Instant::now();
         // The step the system is assembled at, and the scheme's velocities: Rapier's, or with
         // BDF2 Rapier's plus each node's lag (scheme.rs).
@@ -366,30 +336,17 @@ impl ImplicitSolver {
             // Witkin's filtered CG), so the surface, not the rest of the cloth, carries what
             // presses on them. A fixed node keeps no component at all.
             let filter = |i: usize, v: DVec3| filter(normals[i], self.fixed[i], v);
-            // With friction in the solve, the solve's surface stops a supported node's motion
-            // along its normal (Rapier's contact, left the node's weight to carry, does not),
-            // and a node stuck by friction stops altogether: those parts of Δv are prescribed,
-            // z, and the solve finds the rest, y = Δv − z, from P·A·y = P·(b − A·z).
-            let mut any_prescribed = false;
-            for (i, (z, v)) in self.prescribed.iter_mut().zip(velocities).enumerate() {
-                let n = normals[i];
-                // Relative to the surface, which a carrier moves.
-                let surface = self.supports.velocity[i];
-                *z = if self.held[i] {
-                    self.pin_velocities
-                        .get(i)
-                        .copied()
-                        .flatten()
-                        .map_or(DVec3::ZERO, |u| u - *v)
-                } else if !self.friction || n == DVec3::ZERO {
-                    DVec3::ZERO
-                } else if self.fixed[i] {
-                    -(*v - surface)
-                } else {
-                    tangential(n, *v - surface) - (*v - surface)
-                };
-                any_prescribed |= *z != DVec3::ZERO;
-            }
+            // Those parts of Δv that are prescribed, z (prescribed.rs): the solve finds the
+            // rest, y = Δv − z, from P·A·y = P·(b − A·z).
+            let prescription = prescribed::Prescription {
+                held: &self.held,
+                pin_velocities: &self.pin_velocities,
+                friction: self.friction,
+                normals,
+                surface: &self.supports.velocity,
+                fixed: &self.fixed,
+            };
+            let any_prescribed = prescription.write(velocities, &mut self.prescribed);
             // A sliding node's drag: −c·(v + Δv) along the surface, the −c·v part known.
             let drag = |i: usize, v: DVec3| self.sliding_drag[i] * tangential(normals[i], v);
             let surface = &self.supports.velocity;
@@ -423,84 +380,22 @@ impl ImplicitSolver {
             for (i, dv) in self.dv[..n].iter_mut().enumerate() {
                 *dv = filter(i, *dv);
             }
-            // The preconditioner: a sparse Cholesky factor of the filtered system, refactored
-            // when the last pass needed many products; otherwise (or if it cannot be built)
-            // block Jacobi, each node's own 3×3 block of the filtered system P·A·P, inverted on
-            // the plane the filter leaves free (the normal gets m, which the filter then
-            // removes again).
-            blocks::projections(normals, &self.fixed, &mut self.projection);
+            // The preconditioner of this pass (factors.rs).
+            self.factors.project(normals, &self.fixed);
             let preconditioner_start = std::time::Instant::now();
-            let active = match self.method {
-                Preconditioner::Cholesky { refactor_above } => {
-                    let due = self.last_products > refactor_above;
-                    let factor = &mut self.cholesky;
-                    if factor.is_none() {
-                        *factor = SparseCholesky::new(rows);
-                    }
-                    let ready = match factor.as_mut() {
-                        Some(factor) if due || !factor.is_factored() => {
-                            factor.factor(rows, masses, &self.projection, &self.sliding_drag)
-                        }
-                        Some(factor) => factor.is_factored(),
-                        None => false,
-                    };
-                    if ready { Active::Cholesky } else { Active::Jacobi }
-                }
-                Preconditioner::ThreadLines | Preconditioner::TwoLevel { .. } => {
-                    // Both factors are formed afresh at each step's first pass. A repeated pass
-                    // (holds gave way) changes only the released nodes' filter and diagonal
-                    // block: it refactors only the thread chains through them, which equals a
-                    // whole refactorisation to the last bit, and keeps the first pass's coarse
-                    // factor unless more than KEEP_COARSE_FOR_RELEASED were released (then it
-                    // forms again only the coarse blocks they feed, also exact).
-                    let filtered = blocks::Filtered {
-                        diagonal: &self.diagonal,
-                        projection: &self.projection,
-                        drag: &self.sliding_drag,
-                        masses,
-                    };
-                    filtered.diagonal_blocks(&mut self.filtered_diagonal);
-                    if let Preconditioner::TwoLevel { coarsening } = self.method {
-                        if self.coarse.is_none() {
-                            self.coarse = CoarseGrid::new(topo, rows, coarsening);
-                        }
-                        if let Some(coarse) = self.coarse.as_mut() {
-                            let (diagonal, projection) = (&self.filtered_diagonal, &self.projection);
-                            if pass == 0 {
-                                coarse.factor(rows, diagonal, projection);
-                            } else if self.released.len() > KEEP_COARSE_FOR_RELEASED {
-                                coarse.refactor_through(&self.released, rows, diagonal, projection);
-                            }
-                        }
-                    }
-                    let lines = self.lines.get_or_insert_with(|| ThreadLines::new(topo, rows));
-                    let (diagonal, projection) = (&self.filtered_diagonal, &self.projection);
-                    let factored = if pass == 0 {
-                        lines.factor(rows, diagonal, projection)
-                    } else {
-                        lines.refactor_through(&self.released, rows, diagonal, projection)
-                    };
-                    if factored { Active::Lines } else { Active::Jacobi }
-                }
-                Preconditioner::BlockJacobi | Preconditioner::Auto => Active::Jacobi,
-            };
-            if active == Active::Jacobi {
-                let blocks = blocks::Filtered {
-                    diagonal: &self.diagonal,
-                    projection: &self.projection,
-                    drag: &self.sliding_drag,
-                    masses,
-                };
-                blocks.jacobi_inverses(normals, &self.fixed, &mut self.preconditioner);
-            }
-            coupling.factor(&self.diagonal, &self.projection);
+            let active = self.factors.form(PassSystem {
+                topology: topo,
+                rows,
+                masses,
+                diagonal: &self.diagonal,
+                drag: &self.sliding_drag,
+                normals,
+                fixed: &self.fixed,
+                released: &self.released,
+                pass,
+            });
+            coupling.factor(&self.diagonal, &self.factors.projection);
             self.stats.preconditioner_s += preconditioner_start.elapsed().as_secs_f64();
-            let (cholesky, lines, preconditioner) =
-                (&mut self.cholesky, &mut self.lines, &self.preconditioner);
-            let coarse = match self.method {
-                Preconditioner::TwoLevel { .. } => self.coarse.as_mut().filter(|c| c.is_factored()),
-                _ => None,
-            };
             let expanded = &mut self.expanded;
             let coupling = &coupling;
             let apply = |x: &[DVec3], out: &mut [DVec3]| {
@@ -525,37 +420,19 @@ impl ImplicitSolver {
                     *o = filter(i, *o);
                 }
             };
-            let mut coarse = coarse;
+            let factors = &mut self.factors;
             let precondition = |r: &[DVec3], z: &mut [DVec3]| {
                 let (r, r_bodies) = r.split_at(n);
                 let (z, z_bodies) = z.split_at_mut(n);
                 coupling.precondition(r_bodies, z_bodies);
-                match (active, cholesky.as_mut(), lines.as_mut()) {
-                    (Active::Cholesky, Some(factor), _) => factor.solve(r, z),
-                    (Active::Lines, _, Some(lines)) => lines.solve(r, z),
-                    _ => {
-                        for ((z, r), block) in z.iter_mut().zip(r).zip(preconditioner) {
-                            *z = *block * *r;
-                        }
-                        // Each block is already filtered.
-                        if coarse.is_none() {
-                            return;
-                        }
-                    }
-                }
-                if let Some(coarse) = coarse.as_mut() {
-                    coarse.add_correction(r, z);
-                }
-                for (i, z) in z.iter_mut().enumerate() {
-                    *z = filter(i, *z);
-                }
+                factors.apply(active, r, z, filter);
             };
             let [r, z, p, ap] = &mut self.scratch;
             let cg_start = std::time::Instant::now();
             let this_pass =
                 conjugate_gradient(apply, precondition, &self.rhs, &mut self.dv, (r, z, p, ap), stop);
             self.stats.cg_s += cg_start.elapsed().as_secs_f64();
-            self.last_products = this_pass.iterations;
+            self.factors.last_products = this_pass.iterations;
             let (dv, dv_bodies) = self.dv.split_at_mut(n);
             changes = coupling.finish(dv_bodies, filter, dv);
             report = CgReport {
@@ -639,7 +516,7 @@ impl ImplicitSolver {
         self.state_velocities = state;
         self.stats.solves += 1;
         // Counted as a difference, so that totals restored from a checkpoint carry on.
-        let factorisations_after = self.factorisations();
+        let factorisations_after = self.factors.factorisations();
         self.stats.factorisations += factorisations_after - factorisations_before;
         self.stats.iterations += report.iterations as u64;
         if !report.converged {
