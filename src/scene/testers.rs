@@ -12,8 +12,8 @@
 //!   `docs/accuracy.md`. So thick cotton gets 3.75 mm and thin wool 2.5 mm, as the shipped
 //!   scenes; the tablecloth, whose folds span several centimetres, keeps its scene's 5 mm. The
 //!   rule bounds the placement's scatter, not the whole error: thick cotton's drape still
-//!   rises with refinement, by 0.0037–0.0038 in DC a millimetre of spacing (where the cloth
-//!   leaves the rim), and lies 0.014 below its limit at 3.75 mm on both testers;
+//!   rises with refinement, by 0.003–0.004 in DC a millimetre of spacing (where the cloth
+//!   leaves the rim), and lies 0.012–0.015 below its limit at 3.75 mm on both testers;
 //! - step and integration: the template's (BDF2 at 1/240 s, the KES tensile law), which no
 //!   stability limit ties to the spacing.
 
