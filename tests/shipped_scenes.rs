@@ -12,9 +12,9 @@
 //! These are the bounds kes-cloth promises for a settled cloth; they are not loosened here.
 //!
 //! Every simulation runs once, in one pool: the four drapes with the 5 s watch after settling
-//! serve both claims (the centred thin wool drape also serves as one of three lattice
-//! placements); the two tablecloths serve their checks and the seed's claim on the table
-//! (cotton's skirt folds less than wool's).
+//! serve both claims (the centred drapemeter runs also serve as one of three lattice
+//! placements of their fabric); the two tablecloths serve their checks and the seed's claim on
+//! the table (cotton's skirt folds less than wool's).
 
 use std::sync::OnceLock;
 
@@ -165,8 +165,9 @@ fn tablecloth(name: &str) -> (&'static Scene, &'static RunOutcome) {
 
 /// Every simulation of this file, run once (two at a time, the longest first, so that the
 /// two cores stay busy) the first time any test asks: the four drapes with the 5 s watch
-/// ([`WATCHED`]), thin wool's next two lattice placements on the drapemeter, and the two
-/// tablecloths. Each entry is (scene, run, which set: [`WATCHED`], placement or shipped).
+/// ([`WATCHED`]), each fabric's next two lattice placements on the drapemeter ([`PLACED`]),
+/// thick cotton's drapemeter at 2.5 mm ([`FINER`]) and the two tablecloths. Each entry is
+/// (scene, run, which set: [`WATCHED`], [`PLACED`], [`FINER`] or "" for a shipped run).
 fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
     static RUNS: OnceLock<Vec<(Scene, RunOutcome, &'static str)>> = OnceLock::new();
     RUNS.get_or_init(|| {
@@ -182,12 +183,18 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
         // through a shape not at rest) is the longest; thin wool's drapemeter runs come next.
         scenes.push((load("cusick_wool", &watch), WATCHED));
         scenes.push((load("drape_wool", &watch), WATCHED));
-        let shipped = load("drape_wool", &[]);
-        for placed in kes_cloth::repeat::repeat_scenes(&shipped, 3, true).split_off(1) {
+        let placements =
+            |name: &str| kes_cloth::repeat::repeat_scenes(&load(name, &[]), 3, true).split_off(1);
+        for placed in placements("drape_wool") {
             scenes.push((placed, PLACED));
         }
         scenes.push((load("cusick_cotton", &watch), WATCHED));
+        let finer = ["cloth.spacing_m=0.0025".to_string()];
+        scenes.push((load("drape_cotton", &finer), FINER));
         scenes.push((load("drape_cotton", &watch), WATCHED));
+        for placed in placements("drape_cotton") {
+            scenes.push((placed, PLACED));
+        }
         for name in ["tablecloth_cotton", "tablecloth_wool"] {
             scenes.push((load(name, &[]), ""));
         }
@@ -203,8 +210,10 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
 
 /// The drapes run with the 5 s watch after settling.
 const WATCHED: &str = "watched";
-/// Thin wool's drapemeter runs at the next lattice placements.
+/// The drapemeter runs at the next lattice placements.
 const PLACED: &str = "placed";
+/// Thick cotton's drapemeter run on a lattice 1.5 times finer.
+const FINER: &str = "finer";
 
 /// The run of shipped scene `name` in set `set` of [`all_runs`].
 fn run_named(name: &str, set: &str) -> (&'static Scene, &'static RunOutcome) {
@@ -309,18 +318,11 @@ fn drapes_come_to_rest_within_their_budget_and_do_not_creep() {
 /// lattice, all from the one smooth start at seed 0 (the centred lattice, run above with its 5 s
 /// watch, and the next two placements of `--placements`), give a DC standard deviation of at
 /// most 0.01 and one node count. Measured over four placements: 0.365 ± 0.003 with 8 nodes
-/// each (0.364 ± 0.004 at 1.875 mm), where 3.75 mm gives 0.362 ± 0.015 (`docs/model.md` §1). Thick cotton's counterpart,
-/// with its finer lattice, is in `tests/lattice_offset.rs`.
+/// each (0.364 ± 0.004 at 1.875 mm), where 3.75 mm gives 0.362 ± 0.015 (`docs/model.md` §1).
+/// Thick cotton's counterpart, with its finer lattice, is the next test.
 #[test]
 fn thin_wools_drape_moves_by_less_than_a_hundredth_with_placement() {
-    let centred = &settled_drape("drape_wool").1.metrics;
-    let placed = all_runs().iter().filter(|(_, _, set)| *set == PLACED);
-    let metrics: Vec<_> = std::iter::once(centred)
-        .chain(placed.map(|(_, o, _)| &o.metrics))
-        .collect();
-    assert_eq!(metrics.len(), 3);
-    let s = kes_cloth::repeat::summarise_metrics(&metrics);
-    assert_eq!(s.settled, 3, "{s:?}");
+    let s = placements("drape_wool");
     let (mean, sd) = (s.dc_mean.expect("a DC each"), s.dc_std.expect("a DC each"));
     println!("2.5 mm: {mean:.4} ± {sd:.4} ({:?})", s.nodes);
     assert!(sd <= 0.01, "DC {mean:.4} ± {sd:.4}");
@@ -329,4 +331,54 @@ fn thin_wools_drape_moves_by_less_than_a_hundredth_with_placement() {
         "node counts {:?}",
         s.nodes
     );
+}
+
+/// The drapemeter runs of `name` at its three lattice placements (the centred one with its 5 s
+/// watch), summarised; each must have settled.
+fn placements(name: &str) -> kes_cloth::repeat::RepeatSummary {
+    let centred = &settled_drape(name).1.metrics;
+    let placed = all_runs()
+        .iter()
+        .filter(|(scene, _, set)| scene.spec.name == name && *set == PLACED);
+    let metrics: Vec<_> = std::iter::once(centred)
+        .chain(placed.map(|(_, o, _)| &o.metrics))
+        .collect();
+    assert_eq!(metrics.len(), 3);
+    let s = kes_cloth::repeat::summarise_metrics(&metrics);
+    assert_eq!(s.settled, 3, "{name}: {s:?}");
+    s
+}
+
+/// Thick cotton's drape as shipped is the fabric's, not the lattice's, to the target of 0.01:
+/// on the seed's drapemeter (3.75 mm, the smooth start), three placements (the centred one with
+/// its 5 s watch, all at seed 0) give a DC standard deviation of at most 0.01 and one node
+/// count (measured: 0.736 ± 0.007 over three, 0.735 ± 0.007 over four, 4 nodes each), and their
+/// mean lies within 0.01 of the same drape on a lattice 1.5 times finer (2.5 mm, centred;
+/// measured 0.735), with the same node count. This bounds the step to the next spacing, not
+/// the distance to the limit: over four placements 2.5 mm gives 0.740 ± 0.003 and 1.25 mm
+/// 0.745 ± 0.001, and the rim's first-order term (0.0038 per mm of spacing) leaves the shipped
+/// 3.75 mm 0.014 below the limit of 0.749 (`docs/accuracy.md` §4). Thin wool's ± 0.015 misses
+/// the spread target at 3.75 mm and meets it at its shipped 2.5 mm (the test above).
+#[test]
+fn thick_cottons_drape_moves_by_less_than_a_hundredth_with_placement_or_a_finer_lattice() {
+    let s = placements("drape_cotton");
+    let (mean, sd) = (s.dc_mean.expect("a DC each"), s.dc_std.expect("a DC each"));
+    assert!(sd <= 0.01, "DC {mean:.4} ± {sd:.4}");
+    assert!(
+        s.nodes.iter().all(|n| *n == s.modal_nodes),
+        "node counts {:?}",
+        s.nodes
+    );
+    let fine = &run_named("drape_cotton", FINER).1.metrics;
+    assert!(fine.settled, "the 2.5 mm drape is not at rest");
+    let fine_dc = fine.drape_coefficient.expect("a DC");
+    println!(
+        "3.75 mm: {mean:.4} ± {sd:.4} ({:?}); 2.5 mm: {fine_dc:.4} ({:?})",
+        s.nodes, fine.nodes
+    );
+    assert!(
+        (mean - fine_dc).abs() <= 0.01,
+        "3.75 mm: {mean:.4}; 2.5 mm: {fine_dc:.4}"
+    );
+    assert_eq!(fine.nodes, s.modal_nodes, "nodes at 2.5 mm");
 }
