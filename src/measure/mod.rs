@@ -1,9 +1,10 @@
 //! Measurements of the cloth: motion, strain and height each step, the settle criterion, the
-//! creep check after settling, and per-step progress.
+//! creep check after settling, per-step progress, and the final shape's potential energy.
 
 mod creep;
 mod divergence;
 mod drape;
+mod energy;
 mod motion;
 mod penetration;
 mod progress;
@@ -18,6 +19,7 @@ pub use drape::{
     DrapeMeasurement, NODE_PROMINENCE, SkirtMeasurement, measure_drape, measure_skirt, peaks, project,
     union_area,
 };
+pub use energy::{PotentialEnergy, potential_energy};
 pub use motion::{
     Motion, MovingColliders, RUNAWAY_SPEED, RUNAWAY_STRAIN, WorldColliders, link_strains, runaway_causes,
 };

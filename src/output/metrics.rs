@@ -88,6 +88,16 @@ pub struct Metrics {
     /// Kinetic energy at the end (J).
     #[serde(deserialize_with = "null_as_nan")]
     pub kinetic_energy_j: f64,
+    /// Gravitational energy of the final shape, −Σ mᵢ g·xᵢ (J; zero with every node at the
+    /// height of the origin, the support's top in the shipped scenes). With
+    /// `elastic_energy_j`, the potential energy that ranks two rest shapes of one lattice
+    /// ([`crate::measure::potential_energy`]). `None` for a failed run.
+    #[serde(default)]
+    pub gravitational_energy_j: Option<f64>,
+    /// Energy stored in the cloth's elastic effects in the final shape (J): bending,
+    /// trellising, stretch, compression, hysteresis's element springs. `None` for a failed run.
+    #[serde(default)]
+    pub elastic_energy_j: Option<f64>,
     /// Drape coefficient (dimensionless), for scenes with a drapemeter disk; provisional when
     /// `settled` is false.
     pub drape_coefficient: Option<f64>,

@@ -11,17 +11,20 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use bevy_ecs::prelude::*;
+use glam::DVec3;
 
 use super::declared_measures::{Measured, measure_declared};
 use super::{RunOptions, RunOutcome};
 use crate::checkpoint::Snapshot;
-use crate::forces::ClothTopology;
+use crate::forces::{ClothGeometry, ClothTopology};
 use crate::implicit::ImplicitStats;
-use crate::measure::{CreepWatch, Motion, Progress, SettleState, WorldColliders};
+use crate::measure::{
+    CreepWatch, Motion, PotentialEnergy, Progress, SettleState, WorldColliders, potential_energy,
+};
 use crate::output::{EffectCost, FailureReport, Metrics, SolveSplit};
 use crate::scene::Scene;
 use crate::schedule::{
-    Clock, ClothEffects, ClothState, EffectLedger, Failure, Implicit, build_step_schedule,
+    Clock, ClothEffects, ClothNodes, ClothState, EffectLedger, Failure, Implicit, build_step_schedule,
 };
 
 /// How a run ended.
@@ -215,6 +218,10 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
     let implicit = world.get::<Implicit>(cloth).map(|i| i.0.stats);
     let mut metrics = run_metrics(scene, world, &topology, implicit, &ending);
     metrics.max_penetration_m = max_penetration_m;
+    if let Some(energy) = final_energy(scene, world, cloth, &positions).filter(|_| !failed) {
+        metrics.gravitational_energy_j = Some(energy.gravitational);
+        metrics.elastic_energy_j = Some(energy.elastic);
+    }
     metrics.creep_window_s = creep.map(|c| c.window);
     metrics.creep_max_node_m = creep.map(|c| c.max_node);
     metrics.creep_centroid_m = creep.map(|c| c.centroid);
@@ -237,6 +244,27 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
         collider_centres: colliders.iter().map(|c| c.1).collect(),
         checkpoint_error: ending.checkpoint_error,
     }
+}
+
+/// The potential energy of the cloth at `positions` (m), when they are finite.
+fn final_energy(scene: &Scene, world: &World, cloth: Entity, positions: &[DVec3]) -> Option<PotentialEnergy> {
+    let (nodes, effects, state) = (
+        world.get::<ClothNodes>(cloth)?,
+        world.get::<ClothEffects>(cloth)?,
+        world.get::<ClothState>(cloth)?,
+    );
+    if !positions.iter().all(|p| p.is_finite()) {
+        return None;
+    }
+    let mut geometry = ClothGeometry::new(state.topology.clone());
+    let gravity = DVec3::from_array(scene.spec.world.gravity_m_per_s2);
+    Some(potential_energy(
+        &effects.0,
+        &mut geometry,
+        &nodes.0.masses,
+        positions,
+        gravity,
+    ))
 }
 
 /// The metrics every run has: settings, time, motion, the implicit solve, the effects' costs;
@@ -289,6 +317,8 @@ fn run_metrics(
         max_step_speed_m_per_s: motion.max_step_speed,
         window_speed_m_per_s: settle.window_speed,
         kinetic_energy_j: motion.kinetic_energy,
+        gravitational_energy_j: None,
+        elastic_energy_j: None,
         drape_coefficient: None,
         nodes: None,
         outline_min_radius_m: None,
