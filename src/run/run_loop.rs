@@ -210,7 +210,8 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
         .get_resource::<CreepWatch>()
         .filter(|_| !failed)
         .map(|w| w.creep(clock.time, &positions));
-    let max_penetration_m = if positions.iter().all(|p| p.is_finite()) {
+    let finite = positions.iter().all(|p| p.is_finite());
+    let max_penetration_m = if finite {
         crate::measure::max_penetration(&colliders, &positions).0
     } else {
         0.0
@@ -218,7 +219,8 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
     let implicit = world.get::<Implicit>(cloth).map(|i| i.0.stats);
     let mut metrics = run_metrics(scene, world, &topology, implicit, &ending);
     metrics.max_penetration_m = max_penetration_m;
-    if let Some(energy) = final_energy(scene, world, cloth, &positions).filter(|_| !failed) {
+    let energy = (finite && !failed).then(|| final_energy(scene, world, cloth, &positions));
+    if let Some(energy) = energy.flatten() {
         metrics.gravitational_energy_j = Some(energy.gravitational);
         metrics.elastic_energy_j = Some(energy.elastic);
     }
@@ -246,16 +248,14 @@ pub(super) fn collect(scene: &Scene, world: &World, cloth: Entity, ending: Endin
     }
 }
 
-/// The potential energy of the cloth at `positions` (m), when they are finite.
+/// The potential energy of the cloth at `positions` (m); `None` for a cloth without its
+/// bodies, effects or state.
 fn final_energy(scene: &Scene, world: &World, cloth: Entity, positions: &[DVec3]) -> Option<PotentialEnergy> {
     let (nodes, effects, state) = (
         world.get::<ClothNodes>(cloth)?,
         world.get::<ClothEffects>(cloth)?,
         world.get::<ClothState>(cloth)?,
     );
-    if !positions.iter().all(|p| p.is_finite()) {
-        return None;
-    }
     let mut geometry = ClothGeometry::new(state.topology.clone());
     let gravity = DVec3::from_array(scene.spec.world.gravity_m_per_s2);
     Some(potential_energy(
