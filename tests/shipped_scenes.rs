@@ -9,7 +9,10 @@
 //! and at no step does a node centre sit more than 0.5 mm inside the disk or the floor. At the
 //! end, no node moves faster than 1 mm/s over a step (measured from positions: Rapier's stored
 //! velocity of a node resting on the rim reads 5–26 mm/s while the node stays put).
-//! These are the bounds kes-cloth promises for a settled cloth; they are not loosened here.
+//! These are the bounds kes-cloth promises for a settled cloth; they are not loosened here. The
+//! drape scenes step at 1/30 s once quiet (`integration.rest_dt_s`), so the confirmation and the
+//! 5 s watch run at that step, as a user's run does (`tests/rest_step.rs` compares it with the
+//! constant step).
 //!
 //! Every simulation runs once, in one pool: the four drapes with the 5 s watch after settling
 //! serve both claims (the centred drapemeter runs also serve as one of three lattice

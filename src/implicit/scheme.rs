@@ -53,6 +53,9 @@ pub struct Bdf2History {
     pub previous: Vec<DVec3>,
     /// Whether a step has been taken (the first is backward Euler's, which needs no history).
     pub started: bool,
+    /// The Rapier step the history was taken at (s; 0 before the first step).
+    #[serde(default)]
+    pub step_s: f64,
 }
 
 impl Bdf2History {
@@ -62,7 +65,20 @@ impl Bdf2History {
             lag: vec![DVec3::ZERO; n],
             previous: vec![DVec3::ZERO; n],
             started: false,
+            step_s: 0.0,
         }
+    }
+
+    /// Starts the scheme again, from a backward-Euler step, when the step `h` (s) differs from
+    /// the history's: the formula above holds at a constant step, and the lag d is dropped
+    /// with the history (Rapier's velocity becomes the scheme's). A run changes its step only
+    /// at rest ([`crate::scene::IntegrationSpec::rest_dt_s`]), where d nearly vanishes; a host
+    /// that changes its step every step gets backward Euler.
+    pub fn restart_if_step_changed(&mut self, h: f64) {
+        if self.started && self.step_s != 0.0 && self.step_s != h {
+            self.started = false;
+        }
+        self.step_s = h;
     }
 
     /// The scheme's velocities v = w + d (m/s) from Rapier's `w`, into `out`; nodes in `held`
@@ -104,5 +120,27 @@ impl Bdf2History {
             *previous = *v;
         }
         self.started = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The history holds at one step only: a changed step starts the scheme again from
+    /// backward Euler (dropping the lag), the same step keeps it.
+    #[test]
+    fn a_changed_step_starts_bdf2_again() {
+        let mut history = Bdf2History::new(2);
+        history.restart_if_step_changed(1.0 / 240.0);
+        history.start(&[DVec3::X, DVec3::Y]);
+        history.restart_if_step_changed(1.0 / 240.0);
+        assert!(history.started, "the same step restarted the scheme");
+        history.restart_if_step_changed(1.0 / 30.0);
+        assert!(!history.started, "a step eight times longer kept the history");
+        let mut v = [DVec3::ZERO; 2];
+        history.lag = vec![DVec3::Z; 2];
+        history.velocities(&[DVec3::X, DVec3::Y], &[false, false], &mut v);
+        assert_eq!(v, [DVec3::X, DVec3::Y], "the lag survived the restart");
     }
 }

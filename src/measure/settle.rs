@@ -65,6 +65,11 @@ impl SettleState {
         }
     }
 
+    /// Whether the cloth is quiet: a quiet window is being confirmed, or the cloth has settled.
+    pub fn quiet(&self) -> bool {
+        self.candidate.is_some() || self.settled_at.is_some()
+    }
+
     /// Feeds the node positions (m) at time `t` (s); call every step.
     pub fn observe(&mut self, t: f64, positions: &[DVec3]) {
         if self.settled_at.is_some() {
@@ -162,5 +167,29 @@ mod tests {
             late >= 4.5 - 0.5,
             "with a watch: settled at {late} s, before the passage ended"
         );
+    }
+
+    /// The run takes its rest step while [`SettleState::quiet`]: from the quiet window before
+    /// the passage, until the watch undoes it (the step is then the moving one again), and
+    /// again once the passage has stopped.
+    #[test]
+    fn the_cloth_stops_being_quiet_when_the_watch_undoes_its_window() {
+        let mut s = SettleState::new(5e-4, 0.5, 0.2, 2.0);
+        let dt = 1.0 / 240.0;
+        let mut changes = Vec::new();
+        let mut quiet = false;
+        for k in 0..(12.0 / dt) as usize {
+            let t = k as f64 * dt;
+            s.observe(t, &[DVec3::new(passage(t), 0.0, 0.0)]);
+            if s.quiet() != quiet {
+                quiet = s.quiet();
+                changes.push((t, quiet));
+            }
+        }
+        assert!(changes.len() >= 3, "quiet changed at {changes:?}");
+        let (first, undone, last) = (changes[0], changes[1], changes[changes.len() - 1]);
+        assert!(first.1 && first.0 < 2.0, "first quiet at {first:?}");
+        assert!(!undone.1 && undone.0 < 4.5, "window undone at {undone:?}");
+        assert!(last.1 && quiet && last.0 >= 4.5, "quiet again at {last:?}");
     }
 }

@@ -49,6 +49,13 @@ pub struct Metrics {
     pub dt_s: f64,
     /// Steps run.
     pub steps: u64,
+    /// The step taken while the cloth was quiet (s; `integration.rest_dt_s`), absent when the
+    /// scene has none.
+    #[serde(default)]
+    pub rest_dt_s: Option<f64>,
+    /// Of `steps`, those taken at `rest_dt_s` (0 without one).
+    #[serde(default)]
+    pub rest_steps: u64,
     /// Simulated time (s).
     #[serde(deserialize_with = "null_as_nan")]
     pub sim_time_s: f64,

@@ -3,6 +3,7 @@
 
 mod declared_measures;
 mod error_estimate;
+mod rest_step;
 mod run_loop;
 mod run_report;
 

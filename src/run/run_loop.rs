@@ -2,7 +2,8 @@
 //!
 //! 1. [`RunLoop::new`]: the schedule, the step budget, the checkpoint interval, progress.
 //! 2. [`RunLoop::done`]: settled (and creep watched, if asked for), out of time.
-//! 3. [`RunLoop::step`]: one run of the schedule; a failure is named by its effect.
+//! 3. [`RunLoop::step`]: one run of the schedule at the step [`RestStep`] chooses; a failure
+//!    is named by its effect.
 //! 4. [`RunLoop::checkpoint_if_due`]: a checkpoint at its interval or on an interrupt.
 //! 5. [`collect`]: the declared measurements and `metrics.json`'s numbers.
 
@@ -14,6 +15,7 @@ use bevy_ecs::prelude::*;
 use glam::DVec3;
 
 use super::declared_measures::{Measured, measure_declared};
+use super::rest_step::RestStep;
 use super::{RunOptions, RunOutcome};
 use crate::checkpoint::Snapshot;
 use crate::forces::{ClothGeometry, ClothTopology};
@@ -45,8 +47,12 @@ pub(super) struct RunLoop<'a> {
     scene: &'a Scene,
     options: &'a RunOptions,
     schedule: Schedule,
-    max_steps: u64,
-    checkpoint_steps: Option<u64>,
+    /// Simulated time at which the run stops (s), less a millionth of a step for rounding.
+    end_time: f64,
+    /// The simulated time (s) at which the next checkpoint is due.
+    next_checkpoint: Option<f64>,
+    /// The step in motion and at rest.
+    steps: RestStep,
     start: Instant,
     wall_before: f64,
 }
@@ -64,11 +70,12 @@ impl<'a> RunLoop<'a> {
             scene,
             options,
             schedule: build_step_schedule(),
-            max_steps: (max_time / dt).ceil() as u64,
-            checkpoint_steps: options
-                .checkpoint
-                .as_ref()
-                .map(|c| ((c.every_s / dt).round() as u64).max(1)),
+            end_time: max_time - 1e-6 * dt,
+            next_checkpoint: options.checkpoint.as_ref().map(|c| {
+                let now = world.resource::<Clock>().time;
+                (now / c.every_s + 1e-6).floor() * c.every_s + c.every_s
+            }),
+            steps: RestStep::new(scene, world),
             start: Instant::now(),
             wall_before,
         }
@@ -95,11 +102,12 @@ impl<'a> RunLoop<'a> {
                 return true;
             }
         }
-        clock.step >= self.max_steps
+        clock.time >= self.end_time
     }
 
     /// Stage 3: one step; a failure comes back with the effect at fault named.
     pub fn step(&mut self, world: &mut World, cloth: Entity) -> Option<FailureReport> {
+        self.steps.choose(world);
         self.schedule.run(world);
         let f = world.resource::<Failure>().0.clone()?;
         let named = |find: &dyn Fn(&ClothEffects, &ClothState) -> Option<&'static str>| {
@@ -144,7 +152,7 @@ impl<'a> RunLoop<'a> {
     /// Stage 4: writes a checkpoint when one is due or `stopping`; the first error is kept in
     /// `error` and the run goes on.
     pub fn checkpoint_if_due(
-        &self,
+        &mut self,
         world: &World,
         cloth: Entity,
         stopping: bool,
@@ -153,8 +161,14 @@ impl<'a> RunLoop<'a> {
         let Some(plan) = &self.options.checkpoint else {
             return;
         };
-        let step = world.resource::<Clock>().step;
-        let due = self.checkpoint_steps.is_some_and(|n| step % n == 0);
+        let clock = world.resource::<Clock>();
+        let due = self
+            .next_checkpoint
+            .is_some_and(|t| clock.time >= t - 1e-6 * clock.dt);
+        if due {
+            let every = plan.every_s;
+            self.next_checkpoint = Some(((clock.time / every + 1e-6).floor() + 1.0) * every);
+        }
         if !(stopping || due) {
             return;
         }
@@ -298,6 +312,8 @@ fn run_metrics(
         spacing_m: topology.spacing,
         lattice_offset_m: scene.spec.cloth.lattice_offset_m,
         dt_s: scene.spec.integration.dt_s,
+        rest_dt_s: Some(scene.spec.integration.rest_dt_s).filter(|_| clock.rest_steps > 0),
+        rest_steps: clock.rest_steps,
         steps: clock.step,
         sim_time_s: clock.time,
         wall_time_s: ending.wall_s,

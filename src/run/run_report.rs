@@ -203,8 +203,12 @@ pub fn summary(outcome: &RunOutcome) -> String {
             m.settle_restarts
         );
     }
+    let rest = match m.rest_dt_s {
+        Some(r) if m.rest_steps > 0 => format!(", {} of them at rest, of {:.4} s", m.rest_steps, r),
+        _ => String::new(),
+    };
     s += &format!(
-        " ({} steps, {:.2} s simulated, {:.1} s wall)\n",
+        " ({} steps{rest}, {:.2} s simulated, {:.1} s wall)\n",
         m.steps, m.sim_time_s, m.wall_time_s
     );
     s += &format!(

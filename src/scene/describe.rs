@@ -115,6 +115,13 @@ pub fn describe(scene: &Scene) -> String {
         i.settle.max_speed_m_per_s,
         i.settle.hold_s
     );
+    if i.rest_dt_s > i.dt_s && i.integrator != IntegratorSpec::Explicit {
+        let _ = writeln!(
+            out,
+            "  at rest (a quiet window confirmed, the creep watch) steps of {} s",
+            i.rest_dt_s
+        );
+    }
     let _ = writeln!(out, "  {}", integrator_text(scene, topology.particle_count));
     out
 }

@@ -397,6 +397,18 @@ pub struct IntegrationSpec {
     /// When the cloth counts as at rest.
     #[serde(default)]
     pub settle: SettleSpec,
+    /// The step taken while the cloth is quiet (s; default 0: always `dt_s`), 0 to a fifth of
+    /// `settle.hold_s` (the settle window's resolution): from the moment a settle window is
+    /// quiet, through its confirmation and any creep watch, each step is this long; a
+    /// confirmation that fails brings the step back to `dt_s` for the rest of the run. Applies
+    /// only where the implicit solve holds the stretch (`Kes`, `Seed`) and the supports'
+    /// friction: ignored by `Explicit` (whose step the fabric's stiffness bounds at rest too),
+    /// with rope joints (`Constraint`) or `implicit_solver.friction: Some(false)`, and when not
+    /// longer than `dt_s`. At rest
+    /// the step only has to follow slow motion: the shipped drapes' 1/30 s leaves their DC and
+    /// node count as at 1/240 s (`docs/model.md` §12, "The step at rest").
+    #[serde(default)]
+    pub rest_dt_s: f64,
 }
 
 /// How our forces are integrated over a step (`docs/model.md` §7 and §12).

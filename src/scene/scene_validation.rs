@@ -3,8 +3,8 @@
 use crate::embed::{MAX_SMOOTH_AMPLITUDE_M, Roughness};
 
 use super::scene_file::{
-    ClothShape, ColliderMotion, ColliderShape, IntegratorSpec, MeasureSpec, SCENE_VERSION, SceneFile,
-    StretchModel,
+    ClothShape, ColliderMotion, ColliderShape, IntegrationSpec, IntegratorSpec, MeasureSpec, SCENE_VERSION,
+    SceneFile, StretchModel,
 };
 
 /// A field outside its range: (field path, value, reason).
@@ -297,6 +297,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), Violation> {
         "s",
     )?;
     in_closed("integration.settle.confirm_s", i.settle.confirm_s, 0.0, 1e4, "s")?;
+    validate_rest_step(i)?;
     whole(
         "integration.implicit_solver.max_iterations",
         i.implicit_solver.max_iterations,
@@ -428,4 +429,21 @@ fn validate_measure(s: &SceneFile) -> Result<(), Violation> {
         ));
     }
     Ok(())
+}
+
+/// `integration.rest_dt_s`: 0 (none) up to a fifth of the settle window, whose resolution a
+/// longer step would coarsen.
+fn validate_rest_step(i: &IntegrationSpec) -> Result<(), Violation> {
+    let longest = i.settle.hold_s / 5.0;
+    if i.rest_dt_s >= 0.0 && i.rest_dt_s <= longest {
+        return Ok(());
+    }
+    Err(violation(
+        "integration.rest_dt_s",
+        i.rest_dt_s,
+        format!(
+            "must lie in [0, {longest}] s: at most a fifth of `settle.hold_s`, the settle \
+             window's resolution (0: no step at rest)"
+        ),
+    ))
 }

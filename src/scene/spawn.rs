@@ -159,6 +159,8 @@ pub fn insert_resources(world: &mut World, physics: PhysicsWorld, dt: f64, settl
         dt,
         step: 0,
         time: 0.0,
+        rest_steps: 0,
+        rest_given_up: false,
     });
     world.insert_resource(Physics(physics));
     world.insert_resource(EffectLedger::with_all_effects());

@@ -85,6 +85,12 @@ pub struct Clock {
     pub step: u64,
     /// Simulated time (s).
     pub time: f64,
+    /// Of `step`, those taken at the scene's step at rest (`integration.rest_dt_s`).
+    #[serde(default)]
+    pub rest_steps: u64,
+    /// Whether the run has given up its step at rest (a quiet window undone while at it).
+    #[serde(default)]
+    pub rest_given_up: bool,
 }
 
 /// Calls and time spent per effect (for `metrics.json`).

@@ -185,5 +185,5 @@ pub fn step_rapier(
     }
     ledger.record("rapier_step", start.elapsed().as_secs_f64());
     clock.step += 1;
-    clock.time = clock.step as f64 * clock.dt;
+    clock.time += clock.dt;
 }

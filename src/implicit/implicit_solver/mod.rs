@@ -204,6 +204,7 @@ impl ImplicitSolver {
         let bdf2 = match self.settings.scheme {
             Scheme::Bdf2 => {
                 let history = self.bdf2.get_or_insert_with(|| Bdf2History::new(n));
+                history.restart_if_step_changed(h);
                 history.velocities(rapier_velocities, &self.held, &mut state);
                 // Its first step is backward Euler's: started from a history of constant
                 // velocity, BDF2 would miss a third of the first step's velocity change, an
