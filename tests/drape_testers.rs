@@ -36,7 +36,7 @@ fn assert_same_scene(tester: Tester, scene: &str, fabric: &str) {
 /// Every shipped scene of a built-in tester is what `drape` builds for its fabric: the seed's
 /// drapemeter (drape_*), the Cusick tester with a 30 cm specimen (cusick_*) and the tablecloth
 /// (tablecloth_*), for thin wool (c = 1.53 cm) and thick cotton (c = 2.6 cm): on the drapemeters
-/// the coarsest listed spacing within a sixth of c (2.5 mm and 3.75 mm), on the tablecloth 5 mm.
+/// the coarsest listed spacing within a sixth of c (2.5 mm and 3.75 mm), on the tablecloth 3.33 mm.
 #[test]
 fn each_tester_builds_the_shipped_scene_of_its_fabric() {
     for (fabric, short) in [("thin_wool", "wool"), ("thick_cotton", "cotton")] {
@@ -52,7 +52,8 @@ fn each_tester_builds_the_shipped_scene_of_its_fabric() {
 
 /// The 24 and 36 cm Cusick specimens are circles of that diameter on the 18 cm disk; a fabric
 /// no shipped scene uses gets the coarsest listed spacing within a sixth of its bending length
-/// and the testers' BDF2 step of 1/240 s; on the tablecloth it keeps the scene's 5 mm.
+/// and the testers' BDF2 step of 1/240 s; on the tablecloth it keeps the scene's 3.33 mm, a
+/// thirtieth of the table's half-width.
 #[test]
 fn other_specimens_and_fabrics_get_the_rule() {
     for (tester, diameter) in [(Tester::Cusick24, 0.24), (Tester::Cusick36, 0.36)] {
@@ -86,7 +87,7 @@ fn other_specimens_and_fabrics_get_the_rule() {
         &[],
     )
     .expect("builds");
-    assert_eq!(scene.spec.cloth.spacing_m, 0.005);
+    assert_eq!(scene.spec.cloth.spacing_m, 0.1 / 30.0);
     assert_eq!(scene.spec.integration.integrator, IntegratorSpec::Bdf2);
 }
 

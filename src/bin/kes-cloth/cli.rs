@@ -273,7 +273,8 @@ pub enum Command {
     /// 1/240 s) the coarsest of 3.75, 2.5, 1.875, 1.25 mm within a sixth of the fabric's
     /// shorter bending length, where thin wool's and thick cotton's drapes move by less than
     /// 0.01 with the lattice's placement (thick cotton 3.75 mm, thin wool 2.5 mm); the tablecloth
-    /// keeps its 5 mm. Writes what `run` writes, into DIR (default
+    /// keeps its 3.33 mm (a thirtieth of the table's half-width: the table's edge on a row of
+    /// nodes). Writes what `run` writes, into DIR (default
     /// out/<tester>-<fabric file name>/).
     ///
     /// Example: kes-cloth drape assets/fabrics/thin_wool.ron --tester cusick-30 --repeat 3
