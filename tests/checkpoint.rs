@@ -6,7 +6,8 @@
 //!    resumed, a run gives bit-identical metrics (wall times aside) and node positions to the
 //!    same run left alone: explicit, and implicit with hysteresis (so the friction slips and the
 //!    solver's warm start are part of the state), with the two-level preconditioner, and with
-//!    BDF2 (whose history is part of the state).
+//!    BDF2 (whose history is part of the state); and stopped while it steps at rest
+//!    (`integration.rest_dt_s`, whose step and counts are part of the state).
 //! 2. `kes-cloth run --checkpoint-every` stopped by SIGINT exits with 130 and leaves
 //!    `metrics.json` (marked interrupted), `final.obj`, `top.png` and `checkpoint.cbor`;
 //!    `kes-cloth resume` finishes the run.
@@ -18,7 +19,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use kes_cloth::checkpoint::CHECKPOINT_FILE;
+use kes_cloth::checkpoint::{CHECKPOINT_FILE, Snapshot};
 use kes_cloth::run::{CheckpointPlan, RunOptions, resume, simulate};
 use kes_cloth::scene::Scene;
 
@@ -131,6 +132,61 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
             partial.metrics.steps
         );
     }
+}
+
+/// Thick cotton at 1 cm as shipped (BDF2, the KES law, friction in the solve) steps at 1/30 s
+/// through its 2 s confirmation once a settle window is quiet: stopped once a checkpoint 0.5 s
+/// into that confirmation exists, and resumed, it ends bit for bit where the run left alone
+/// ends.
+#[test]
+fn a_run_resumed_during_its_steps_at_rest_ends_where_the_uninterrupted_run_ends() {
+    let sets = ["cloth.spacing_m=0.01", "integration.max_time_s=6"].map(String::from);
+    let scene = Scene::load(common::crate_path("scenes/drape_cotton.ron"), &sets).unwrap();
+    let whole = simulate(&scene, &RunOptions::default());
+    assert!(
+        whole.metrics.settled && whole.metrics.rest_steps > 0,
+        "{:?}",
+        whole.metrics
+    );
+    // The window opens at `settle_time_s` and is quiet 0.5 s later (`settle.hold_s`).
+    let stop_after = whole.metrics.settle_time_s.unwrap() + 0.5 + 0.5;
+
+    let dir = out_dir("rest_step");
+    let flag = Arc::new(AtomicBool::new(false));
+    let watcher = {
+        let (flag, dir) = (flag.clone(), dir.clone());
+        std::thread::spawn(move || {
+            for _ in 0..12_000 {
+                std::thread::sleep(Duration::from_millis(5));
+                // A checkpoint being written does not read; the next one will.
+                if Snapshot::read(&dir).is_ok_and(|s| s.time_s() >= stop_after) {
+                    break;
+                }
+            }
+            flag.store(true, Ordering::Relaxed);
+        })
+    };
+    let options = RunOptions {
+        checkpoint: Some(CheckpointPlan {
+            dir: dir.clone(),
+            every_s: 0.05,
+        }),
+        interrupt: Some(flag),
+        ..RunOptions::default()
+    };
+    let partial = simulate(&scene, &options);
+    watcher.join().unwrap();
+    let (stopped, all) = (partial.metrics.rest_steps, whole.metrics.rest_steps);
+    assert!(
+        partial.metrics.interrupted && stopped > 0 && stopped < all,
+        "stopped after {stopped} of {all} steps at rest"
+    );
+    let (_, resumed) = resume(&dir, &RunOptions::default()).unwrap();
+    assert_eq!(
+        common::without_clock_times(&whole.metrics),
+        common::without_clock_times(&resumed.metrics)
+    );
+    assert!(common::same_bits(&whole.positions, &resumed.positions));
 }
 
 fn kes_cloth() -> Command {

@@ -239,6 +239,11 @@ impl Snapshot {
         Ok(path)
     }
 
+    /// The simulated time the checkpoint was taken at (s).
+    pub fn time_s(&self) -> f64 {
+        self.clock.time
+    }
+
     /// Reads `dir/checkpoint.cbor`.
     pub fn read(dir: &Path) -> Result<Self, CheckpointError> {
         let path = dir.join(CHECKPOINT_FILE);

@@ -21,8 +21,8 @@ pub(super) struct RestStep {
     moving: f64,
     /// The step at rest (s), where it applies.
     rest: Option<f64>,
-    /// Quiet windows undone before the latest step, and whether that step was taken at rest.
-    last: (u32, bool),
+    /// Quiet windows undone before the step being taken, and whether it is taken at rest.
+    current: (u32, bool),
 }
 
 impl RestStep {
@@ -38,21 +38,16 @@ impl RestStep {
         Self {
             moving: i.dt_s,
             rest,
-            last: (0, false),
+            current: (0, false),
         }
     }
 
-    /// Sets the next step on the clock and in Rapier: the rest step while the cloth is quiet
-    /// and the run has not given it up.
+    /// Before a step: sets it on the clock and in Rapier, the rest step while the cloth is
+    /// quiet and the run has not given it up.
     pub fn choose(&mut self, world: &mut World) {
         let settle = world.resource::<SettleState>();
-        let restarts = settle.restarts;
-        let quiet = settle.quiet();
+        let (restarts, quiet) = (settle.restarts, settle.quiet());
         let mut clock = world.resource_mut::<Clock>();
-        // The watch undid a window during a step at rest: the run goes on at `dt_s`.
-        if self.last.1 && restarts > self.last.0 {
-            clock.rest_given_up = true;
-        }
         let at_rest = self.rest.is_some() && quiet && !clock.rest_given_up;
         let dt = match self.rest {
             Some(rest) if at_rest => rest,
@@ -60,8 +55,17 @@ impl RestStep {
         };
         clock.dt = dt;
         clock.rest_steps += u64::from(at_rest);
-        self.last = (restarts, at_rest);
+        self.current = (restarts, at_rest);
         world.resource_mut::<Physics>().0.integration_parameters.dt = dt as f32;
+    }
+
+    /// After the step: if the watch undid a quiet window during a step at rest, the run goes on
+    /// at `dt_s` (kept on the clock, so that a checkpoint carries it).
+    pub fn judge(&self, world: &mut World) {
+        let (before, at_rest) = self.current;
+        if at_rest && world.resource::<SettleState>().restarts > before {
+            world.resource_mut::<Clock>().rest_given_up = true;
+        }
     }
 }
 
@@ -93,7 +97,7 @@ mod tests {
         let mut steps = RestStep {
             moving,
             rest: Some(rest),
-            last: (0, false),
+            current: (0, false),
         };
         let mut log = Vec::new();
         while world.resource::<Clock>().time < 8.0 {
@@ -104,7 +108,9 @@ mod tests {
             let x = 1e-3 * ((t - 1.5) / 0.1).clamp(0.0, 1.0);
             let mut settle = world.resource_mut::<SettleState>();
             settle.observe(t, &[DVec3::new(x, 0.0, 0.0)]);
-            log.push((t, dt, settle.restarts));
+            let restarts = settle.restarts;
+            steps.judge(&mut world);
+            log.push((t, dt, restarts));
         }
         let rapier_dt = world.resource::<Physics>().0.integration_parameters.dt as f64;
         let step_at = |t: f64| log.iter().find(|(time, ..)| *time >= t).unwrap().1;

@@ -109,6 +109,7 @@ impl<'a> RunLoop<'a> {
     pub fn step(&mut self, world: &mut World, cloth: Entity) -> Option<FailureReport> {
         self.steps.choose(world);
         self.schedule.run(world);
+        self.steps.judge(world);
         let f = world.resource::<Failure>().0.clone()?;
         let named = |find: &dyn Fn(&ClothEffects, &ClothState) -> Option<&'static str>| {
             world
