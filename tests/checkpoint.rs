@@ -92,15 +92,7 @@ fn a_resumed_run_ends_exactly_where_the_uninterrupted_run_ends() {
                 flag.store(true, Ordering::Relaxed);
             })
         };
-        let options = RunOptions {
-            checkpoint: Some(CheckpointPlan {
-                dir: dir.clone(),
-                every_s: 0.05,
-            }),
-            interrupt: Some(flag),
-            ..RunOptions::default()
-        };
-        let partial = simulate(&scene, &options);
+        let partial = simulate(&scene, &checkpointed(&dir, flag));
         timer.join().unwrap();
         assert!(
             partial.metrics.interrupted && partial.metrics.steps < whole.metrics.steps,
@@ -166,15 +158,7 @@ fn a_run_resumed_during_its_steps_at_rest_ends_where_the_uninterrupted_run_ends(
             flag.store(true, Ordering::Relaxed);
         })
     };
-    let options = RunOptions {
-        checkpoint: Some(CheckpointPlan {
-            dir: dir.clone(),
-            every_s: 0.05,
-        }),
-        interrupt: Some(flag),
-        ..RunOptions::default()
-    };
-    let partial = simulate(&scene, &options);
+    let partial = simulate(&scene, &checkpointed(&dir, flag));
     watcher.join().unwrap();
     let (stopped, all) = (partial.metrics.rest_steps, whole.metrics.rest_steps);
     assert!(
@@ -187,6 +171,19 @@ fn a_run_resumed_during_its_steps_at_rest_ends_where_the_uninterrupted_run_ends(
         common::without_clock_times(&resumed.metrics)
     );
     assert!(common::same_bits(&whole.positions, &resumed.positions));
+}
+
+/// Options for a run that writes a checkpoint into `dir` every 0.05 s of simulated time and
+/// stops once `interrupt` is set.
+fn checkpointed(dir: &Path, interrupt: Arc<AtomicBool>) -> RunOptions {
+    RunOptions {
+        checkpoint: Some(CheckpointPlan {
+            dir: dir.to_path_buf(),
+            every_s: 0.05,
+        }),
+        interrupt: Some(interrupt),
+        ..RunOptions::default()
+    }
 }
 
 fn kes_cloth() -> Command {
