@@ -75,3 +75,18 @@ fn a_drape_stepped_long_at_rest_ends_where_the_constant_step_ends() {
         assert!(rested.max_step_speed_m_per_s < 1e-3, "{name}: jitter");
     }
 }
+
+/// `kes-cloth check` says when a scene steps at rest: the shipped drapes do, and not once their
+/// links are Rapier's rope joints, which hold a resting cloth only as well as their step lets
+/// them.
+#[test]
+fn check_says_where_the_rest_step_applies() {
+    let load = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let scene = Scene::load(common::crate_path("scenes/drape_wool.ron"), &sets).unwrap();
+        kes_cloth::scene::describe(&scene)
+    };
+    assert!(load(&[]).contains("steps of 0.0333"), "{}", load(&[]));
+    let joints = load(&["effects.stretch=Constraint"]);
+    assert!(!joints.contains("at rest"), "{joints}");
+}

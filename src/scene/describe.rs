@@ -115,7 +115,11 @@ pub fn describe(scene: &Scene) -> String {
         i.settle.max_speed_m_per_s,
         i.settle.hold_s
     );
-    if i.rest_dt_s > i.dt_s && i.integrator != IntegratorSpec::Explicit {
+    // As `run/rest_step.rs` decides: where the solve holds the stretch and the friction.
+    let held_by_the_solve = i.integrator != IntegratorSpec::Explicit
+        && s.effects.stretch != StretchModel::Constraint
+        && i.implicit_solver.friction != Some(false);
+    if i.rest_dt_s > i.dt_s && held_by_the_solve {
         let _ = writeln!(
             out,
             "  at rest (a quiet window confirmed, the creep watch) steps of {} s",
