@@ -70,10 +70,10 @@ fn refusal(scene: &str, offset: &str) -> String {
 
 #[test]
 fn a_lattice_offset_beyond_half_a_spacing_or_on_a_rectangle_is_refused() {
-    // Half the shipped 3.75 mm spacing is 1.875 mm.
-    let e = refusal("scenes/drape_cotton.ron", "(0.002, 0.0)");
+    // Half the shipped 2.5 mm spacing is 1.25 mm.
+    let e = refusal("scenes/drape_cotton.ron", "(0.0015, 0.0)");
     assert!(
-        e.contains("cloth.lattice_offset_m[0]") && e.contains("0.001875"),
+        e.contains("cloth.lattice_offset_m[0]") && e.contains("0.00125"),
         "{e}"
     );
     let e = refusal("scenes/tablecloth_wool.ron", "(0.001, 0.0)");

@@ -270,9 +270,9 @@ pub enum Command {
     /// The tester's specimen, disk or table, integration and settle criterion are the shipped
     /// scenes' (scenes/drape_*.ron, scenes/cusick_*.ron, scenes/tablecloth_*.ron); the lattice
     /// spacing is chosen from the fabric as the shipped scenes' is: on the drapemeters (BDF2 at
-    /// 1/240 s) the coarsest of 3.75, 2.5, 1.875, 1.25 mm within a sixth of the fabric's
-    /// shorter bending length, where thin wool's and thick cotton's drapes move by less than
-    /// 0.01 with the lattice's placement (thick cotton 3.75 mm, thin wool 2.5 mm); the tablecloth
+    /// 1/240 s) the coarsest of 2.5, 1.875, 1.25 mm within a sixth of the fabric's shorter
+    /// bending length, where thin wool's and thick cotton's drapes move by less than 0.01 with
+    /// the lattice's placement and lie within 0.01 of their limits (both 2.5 mm); the tablecloth
     /// keeps its 3.33 mm (a thirtieth of the table's half-width: the table's edge on a row of
     /// nodes). Writes what `run` writes, into DIR (default
     /// out/<tester>-<fabric file name>/).
