@@ -50,7 +50,7 @@ pub struct Metrics {
     /// Steps run.
     pub steps: u64,
     /// The step taken while the cloth was quiet (s; `integration.rest_dt_s`), absent when the
-    /// scene has none.
+    /// run took no step at it (none asked for, not applicable, or never quiet).
     #[serde(default)]
     pub rest_dt_s: Option<f64>,
     /// Of `steps`, those taken at `rest_dt_s` (0 without one).
