@@ -13,7 +13,7 @@ use bevy_ecs::prelude::*;
 
 use crate::measure::SettleState;
 use crate::scene::Scene;
-use crate::schedule::{Clock, ClothNodes, Implicit, Physics};
+use crate::schedule::{Clock, Physics};
 
 /// The steps a run chooses from.
 pub(super) struct RestStep {
@@ -26,18 +26,12 @@ pub(super) struct RestStep {
 }
 
 impl RestStep {
-    /// The steps of `scene`, whose cloth is spawned in `world`.
-    pub fn new(scene: &Scene, world: &mut World) -> Self {
-        let i = &scene.spec.integration;
-        let mut cloths = world.query::<(&Implicit, &ClothNodes)>();
-        let held_by_the_solve = cloths
-            .iter(world)
-            .all(|(implicit, nodes)| implicit.0.has_friction() && nodes.0.joints.is_empty());
-        let implicit = cloths.iter(world).next().is_some();
-        let rest = (i.rest_dt_s > i.dt_s && implicit && held_by_the_solve).then_some(i.rest_dt_s);
+    /// The steps of `scene` ([`crate::scene::SceneFile::rest_step_s`] says where the rest step
+    /// applies).
+    pub fn new(scene: &Scene) -> Self {
         Self {
-            moving: i.dt_s,
-            rest,
+            moving: scene.spec.integration.dt_s,
+            rest: scene.spec.rest_step_s(),
             current: (0, false),
         }
     }

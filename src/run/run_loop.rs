@@ -75,7 +75,7 @@ impl<'a> RunLoop<'a> {
                 let now = world.resource::<Clock>().time;
                 (now / c.every_s + 1e-6).floor() * c.every_s + c.every_s
             }),
-            steps: RestStep::new(scene, world),
+            steps: RestStep::new(scene),
             start: Instant::now(),
             wall_before,
         }

@@ -115,15 +115,10 @@ pub fn describe(scene: &Scene) -> String {
         i.settle.max_speed_m_per_s,
         i.settle.hold_s
     );
-    // As `run/rest_step.rs` decides: where the solve holds the stretch and the friction.
-    let held_by_the_solve = i.integrator != IntegratorSpec::Explicit
-        && s.effects.stretch != StretchModel::Constraint
-        && i.implicit_solver.friction != Some(false);
-    if i.rest_dt_s > i.dt_s && held_by_the_solve {
+    if let Some(rest) = s.rest_step_s() {
         let _ = writeln!(
             out,
-            "  at rest (a quiet window confirmed, the creep watch) steps of {} s",
-            i.rest_dt_s
+            "  at rest (a quiet window confirmed, the creep watch) steps of {rest} s"
         );
     }
     let _ = writeln!(out, "  {}", integrator_text(scene, topology.particle_count));

@@ -42,6 +42,20 @@ pub struct SceneFile {
     pub output: OutputSpec,
 }
 
+impl SceneFile {
+    /// The step (s) the run takes while the cloth is quiet: `integration.rest_dt_s` where it
+    /// applies, an implicit integrator whose solve holds the stretch (not Rapier's rope joints)
+    /// and the supports' friction (not `implicit_solver.friction: Some(false)`) and a step longer
+    /// than `dt_s`; `None` elsewhere (`docs/model.md` §12, "The step at rest").
+    pub fn rest_step_s(&self) -> Option<f64> {
+        let i = &self.integration;
+        let held_by_the_solve = i.integrator != IntegratorSpec::Explicit
+            && self.effects.stretch != StretchModel::Constraint
+            && i.implicit_solver.friction != Some(false);
+        (i.rest_dt_s > i.dt_s && held_by_the_solve).then_some(i.rest_dt_s)
+    }
+}
+
 /// Where the fabric comes from.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum FabricSource {
