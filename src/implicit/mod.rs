@@ -31,8 +31,8 @@
 //! 5. hands Rapier the force M·Δv/h − M·g, which reaches each node as the velocity kick
 //!    Δv − h·g before Rapier's step (Rapier's gravity adds h·g back; joints and contacts follow).
 //!
-//! With [`Scheme::Bdf2`] steps 2–3 use h' = 2h/3 and BDF2's history, and step 5 hands Rapier
-//! BDF2's kick (`scheme.rs`).
+//! With [`Scheme::Bdf2`] steps 2–3 use h' = β·h (2h/3 at a constant step) and BDF2's history,
+//! and step 5 hands Rapier BDF2's kick (`scheme.rs`).
 //!
 //! Only our forces, gravity and (optionally) the supports' friction are implicit; Rapier still
 //! treats joints and contact its own way, except that a host's dynamic body touching the cloth

@@ -24,7 +24,7 @@ pub(super) struct Coupling<'a> {
     /// Inverse of each body slot's diagonal block (ΔV, then Δω, per body; zero for the spin of
     /// a body that cannot turn).
     inverse: Vec<DMat3>,
-    /// The scheme's step over Rapier's (1 for backward Euler, 2/3 for BDF2): the body's rows,
+    /// The scheme's step over Rapier's (1 for backward Euler, BDF2's β: 2/3 at a constant step): the body's rows,
     /// backward Euler's over Rapier's step, are scaled by it to match the nodes'.
     scale: f64,
 }

@@ -204,7 +204,7 @@ impl ImplicitSolver {
         let bdf2 = match self.settings.scheme {
             Scheme::Bdf2 => {
                 let history = self.bdf2.get_or_insert_with(|| Bdf2History::new(n));
-                history.restart_if_step_changed(h);
+                history.prepare(h);
                 history.velocities(rapier_velocities, &self.held, &mut state);
                 // Its first step is backward Euler's: started from a history of constant
                 // velocity, BDF2 would miss a third of the first step's velocity change, an
@@ -213,12 +213,7 @@ impl ImplicitSolver {
             }
             Scheme::BackwardEuler => None,
         };
-        let hs = if bdf2.is_some() {
-            Scheme::Bdf2
-        } else {
-            Scheme::BackwardEuler
-        }
-        .system_step(h);
+        let hs = bdf2.map_or(h, |history| history.system_step(h));
         let velocities: &[DVec3] = if bdf2.is_some() { &state } else { rapier_velocities };
         let supports = &mut self.supports;
         for ((support, touch), pressed) in supports
@@ -234,7 +229,7 @@ impl ImplicitSolver {
         let (topo, masses) = (&*self.topology, &self.masses);
         let (pert, product, matrix) = (&mut self.perturbation, &mut self.product, &mut self.matrix);
         // Assemble h²·H, and with it b = h·F − h²·H·v (h·M·g is added below); then add h·C.
-        // (BDF2: h' for h, 3w/2 for v, and its history and lag terms, scheme.rs.)
+        // (BDF2: h' for h, k·w for v, and its history and lag terms, scheme.rs.)
         matrix.clear();
         for g in generators.iter().flatten() {
             g.add_stiffness_blocks(geometry, hs * hs, matrix);
@@ -245,9 +240,10 @@ impl ImplicitSolver {
             link.add_stiffness_blocks(hs * hs, matrix);
         }
         match bdf2 {
-            Some(_) => {
+            Some(history) => {
+                let k = history.velocity_weight();
                 for (a, w) in self.ax.iter_mut().zip(rapier_velocities) {
-                    *a = 1.5 * *w;
+                    *a = k * *w;
                 }
                 pert.set(topo, &self.ax);
             }
@@ -319,7 +315,7 @@ impl ImplicitSolver {
         // A carrier's node at a pin of another body (held) is that pin's, not the carrier's.
         let (held, pinned) = (&self.held, &self.carriers.pinned);
         // The body's rows are backward Euler's over Rapier's step h, the nodes' over the
-        // scheme's hs: scaled by hs/h to share the nodes' (BDF2: 2/3).
+        // scheme's hs: scaled by hs/h to share the nodes' (BDF2: β, 2/3 at a constant step).
         let mut coupling = Coupling::new(&self.carriers, hs / h, |i| {
             !held[i] || pinned.get(i) == Some(&true)
         });
