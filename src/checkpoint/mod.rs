@@ -47,6 +47,9 @@ struct ImplicitState {
     pressed: Vec<bool>,
     /// Per node: the last friction impulse of a sliding node (N·s; 0 where not sliding).
     sliding: Vec<f64>,
+    /// The system step h' (s) those impulses were taken over (0: unknown).
+    #[serde(default)]
+    sliding_step_s: f64,
     /// BDF2's lag and previous velocities (absent with backward Euler or before its first step).
     #[serde(default)]
     bdf2: Option<Bdf2History>,
@@ -120,7 +123,8 @@ impl Snapshot {
                 warm_start: i.0.warm_start().to_vec(),
                 stats: i.0.stats,
                 pressed: i.0.pressed().to_vec(),
-                sliding: i.0.sliding_impulses().to_vec(),
+                sliding: i.0.sliding_impulses().0.to_vec(),
+                sliding_step_s: i.0.sliding_impulses().1,
                 bdf2: i.0.bdf2_history().cloned(),
                 releases_due: i.0.releases_due().to_vec(),
                 link_anchors: {
@@ -177,7 +181,7 @@ impl Snapshot {
                 i.0.supports.anchors = s.link_anchors.iter().map(|&(l, t, a)| (l, (t, a))).collect();
                 i.0.restore_warm_start(&s.warm_start)
                     && i.0.restore_pressed(&s.pressed)
-                    && i.0.restore_sliding_impulses(&s.sliding)
+                    && i.0.restore_sliding_impulses(&s.sliding, s.sliding_step_s)
                     && i.0.restore_bdf2_history(s.bdf2.clone())
                     && i.0.restore_releases_due(&s.releases_due)
             }

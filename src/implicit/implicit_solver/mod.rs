@@ -75,6 +75,9 @@ pub struct ImplicitSolver {
     /// a node held or unsupported: a node that slid keeps sliding into the next step, with
     /// this impulse as its drag, until it has all but stopped.
     sliding_impulse: Vec<f64>,
+    /// The system step h' (s) the sliding impulses were taken over (0 before any): a step of
+    /// another length scales them to its own, as the friction force they stand for is the same.
+    sliding_step_s: f64,
     /// Per node: a hold that left its friction cone in the last solve and, with
     /// [`FrictionRelease::NextStep`], slides from this step on.
     release_next: Vec<bool>,
@@ -134,6 +137,7 @@ impl ImplicitSolver {
             prescribed: vec![DVec3::ZERO; n],
             sliding_drag: vec![0.0; n],
             sliding_impulse: vec![0.0; n],
+            sliding_step_s: 0.0,
             release_next: vec![false; n],
             pressed: vec![false; n],
             unfiltered_rhs: vec![DVec3::ZERO; n],
@@ -282,6 +286,12 @@ impl ImplicitSolver {
             *d = DMat3::from_diagonal(DVec3::splat(*m));
         }
         matrix.add_particle_diagonal(topo, &mut self.diagonal);
+        // The sliding nodes' friction impulses, taken over the last step's h', over this one's.
+        if self.sliding_step_s > 0.0 && self.sliding_step_s != hs {
+            let scale = hs / self.sliding_step_s;
+            self.sliding_impulse.iter_mut().for_each(|i| *i *= scale);
+        }
+        self.sliding_step_s = hs;
         friction_start::start_holds(
             friction_start::Holds {
                 fixed: &mut self.fixed,

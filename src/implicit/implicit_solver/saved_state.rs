@@ -29,9 +29,10 @@ impl ImplicitSolver {
         copy_if_same_length(&mut self.pressed, pressed)
     }
 
-    /// Each node's kinetic friction impulse from the last solve (N·s; for checkpoints).
-    pub fn sliding_impulses(&self) -> &[f64] {
-        &self.sliding_impulse
+    /// Each node's kinetic friction impulse from the last solve (N·s), and the system step h'
+    /// (s) it was taken over (for checkpoints).
+    pub fn sliding_impulses(&self) -> (&[f64], f64) {
+        (&self.sliding_impulse, self.sliding_step_s)
     }
 
     /// Which holds gave way in the last solve and slide from the next step
@@ -68,10 +69,14 @@ impl ImplicitSolver {
         fits
     }
 
-    /// Restores what [`Self::sliding_impulses`] returned; `false` (and nothing changed) if it
-    /// does not fit this cloth.
-    pub fn restore_sliding_impulses(&mut self, impulses: &[f64]) -> bool {
-        copy_if_same_length(&mut self.sliding_impulse, impulses)
+    /// Restores what [`Self::sliding_impulses`] returned (a step of 0: unknown, the next step's
+    /// taken); `false` (and nothing changed) if it does not fit this cloth.
+    pub fn restore_sliding_impulses(&mut self, impulses: &[f64], step_s: f64) -> bool {
+        let fits = copy_if_same_length(&mut self.sliding_impulse, impulses);
+        if fits {
+            self.sliding_step_s = step_s;
+        }
+        fits
     }
 }
 
