@@ -272,7 +272,9 @@ pub enum Command {
     /// spacing is chosen from the fabric as the shipped scenes' is: on the drapemeters (BDF2 at
     /// 1/240 s) the coarsest of 2.5, 1.875, 1.25 mm within a sixth of the fabric's shorter
     /// bending length, where thin wool's and thick cotton's drapes move by less than 0.01 with
-    /// the lattice's placement and lie within 0.01 of their limits (both 2.5 mm); the tablecloth
+    /// the lattice's placement and, on the seed's drapemeter, lie within 0.01 of their limits
+    /// (both 2.5 mm; thin wool on the Cusick tester drapes 0.015 higher at 1.875 mm, with a
+    /// node more, so its figure there is uncertain by that much: docs/accuracy.md); the tablecloth
     /// keeps its 3.33 mm (a thirtieth of the table's half-width: the table's edge on a row of
     /// nodes). Writes what `run` writes, into DIR (default
     /// out/<tester>-<fabric file name>/).
