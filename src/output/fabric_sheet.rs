@@ -15,8 +15,9 @@ struct Line {
     per_thread: bool,
 }
 
-/// `value` with four significant digits, plain where that reads well.
-fn number(value: f64) -> String {
+/// `value` with four significant digits, plain where that reads well (trailing zeros dropped:
+/// 1.25, 2.5, 3.333, 10).
+pub fn number(value: f64) -> String {
     let magnitude = value.abs();
     if value == 0.0 || (1e-3..1e5).contains(&magnitude) {
         let decimals = (3 - magnitude.log10().floor() as i32).clamp(0, 6) as usize;
@@ -184,5 +185,15 @@ mod tests {
         assert_eq!(number(500.0), "500");
         assert_eq!(number(5.393e-6), "5.393e-6");
         assert_eq!(number(0.0), "0");
+    }
+
+    /// A run's summary gives its spacing in millimetres through [`number`]: to one decimal,
+    /// 1.25 mm would read as 1.2 mm.
+    #[test]
+    fn a_spacing_of_one_and_a_quarter_millimetres_reads_as_it_is() {
+        assert_eq!(number(0.00125 * 1e3), "1.25");
+        assert_eq!(number(0.001875 * 1e3), "1.875");
+        assert_eq!(number(0.01 / 3.0 * 1e3), "3.333");
+        assert_eq!(number(0.0025 * 1e3), "2.5");
     }
 }

@@ -12,7 +12,7 @@ mod top_view;
 
 use std::path::PathBuf;
 
-pub use fabric_sheet::fabric_sheet;
+pub use fabric_sheet::{fabric_sheet, number};
 pub use mesh_glb::{glb_bytes, write_glb};
 pub use mesh_obj::write_obj;
 pub use metrics::{EffectCost, FailureReport, Metrics, SolveSplit};

@@ -175,11 +175,11 @@ fn write_report(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), O
 pub fn summary(outcome: &RunOutcome) -> String {
     let m = &outcome.metrics;
     let mut s = format!(
-        "{} ({}): {} nodes at {:.1} mm, dt {:.3} ms, {}\n",
+        "{} ({}): {} nodes at {} mm, dt {:.3} ms, {}\n",
         m.scene,
         m.fabric,
         m.particles,
-        m.spacing_m * 1e3,
+        crate::output::number(m.spacing_m * 1e3),
         m.dt_s * 1e3,
         match m.cg_iterations_mean {
             Some(it) => format!(

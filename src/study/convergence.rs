@@ -204,7 +204,7 @@ pub fn edge_rows_warning(
             .iter()
             .zip(&edges)
             .filter(|(_, e)| e.iter().any(|x| *x) == on)
-            .map(|(s, _)| format!("{} mm", s * 1e3))
+            .map(|(s, _)| format!("{} mm", crate::output::number(s * 1e3)))
             .collect::<Vec<_>>()
             .join(", ")
     };

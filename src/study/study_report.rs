@@ -216,9 +216,9 @@ fn markdown(study: &Study) -> String {
 fn reference_lines(s: &mut String, study: &Study, r: &crate::output::Metrics, setting: &str) {
     let _ = writeln!(
         s,
-        "Reference ({setting}): {} nodes at {:.1} mm, dt {:.3} ms, {}; {}, {:.1} s wall.\n",
+        "Reference ({setting}): {} nodes at {} mm, dt {:.3} ms, {}; {}, {:.1} s wall.\n",
         r.particles,
-        r.spacing_m * 1e3,
+        crate::output::number(r.spacing_m * 1e3),
         r.dt_s * 1e3,
         r.integrator,
         match (r.drape_coefficient, r.hang_corners_m, r.cantilever_chord_deg) {
