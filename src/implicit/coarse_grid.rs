@@ -96,8 +96,10 @@ fn flatten(lists: Vec<Vec<u32>>) -> (Vec<u32>, Vec<u32>) {
 /// The coarse lattice of one cloth, its Galerkin matrix and factor.
 #[derive(Clone, Debug)]
 pub struct CoarseGrid {
-    /// Each node's coarse parents (unused entries weigh 0).
+    /// Each node's coarse parents, those of positive weight first (unused entries weigh 0).
     parents: Vec<[Parent; 4]>,
+    /// How many of each node's parents weigh more than 0 (1, 2 or 4).
+    parent_count: Vec<u8>,
     /// For each stored fine block (in the particle matrix's order), its contributions:
     /// `scatter[scatter_start[k]..scatter_start[k + 1]]`.
     scatter: Vec<Scatter>,
@@ -159,14 +161,16 @@ impl CoarseGrid {
                     (ci, cj + 1, (1.0 - fi) * fj),
                     (ci + 1, cj + 1, fi * fj),
                 ];
-                for (slot, (a, b, w)) in out.iter_mut().zip(corners) {
+                let mut used = 0;
+                for (a, b, w) in corners {
                     if w > 0.0 {
                         let k = &mut number[(a * nj + b) as usize];
                         if *k == u32::MAX {
                             *k = count;
                             count += 1;
                         }
-                        *slot = (*k, w);
+                        out[used] = (*k, w);
+                        used += 1;
                     }
                 }
                 out
@@ -255,7 +259,12 @@ impl CoarseGrid {
             .flat_map(|i| std::iter::repeat_n(i as u32, (block_start[i + 1] - block_start[i]) as usize))
             .collect();
         let marked = vec![false; matrix.column.len()];
+        let parent_count = parents
+            .iter()
+            .map(|own| own.iter().filter(|(_, w)| *w > 0.0).count() as u8)
+            .collect();
         Some(Self {
+            parent_count,
             block_start,
             lower_start,
             lower_block,
@@ -372,16 +381,18 @@ impl CoarseGrid {
 
     /// z += R·A_c⁻¹·Rᵀ·r (unfiltered: the caller filters z).
     pub fn add_correction(&mut self, r: &[DVec3], z: &mut [DVec3]) {
+        // Only the parents of positive weight: a zero weight's term is an exact no-op.
+        let parents = self.parents.iter().zip(&self.parent_count);
         self.coarse.fill(DVec3::ZERO);
-        for (own, r) in self.parents.iter().zip(r) {
-            for &(a, w) in own {
+        for ((own, &count), r) in parents.clone().zip(r) {
+            for &(a, w) in &own[..count as usize] {
                 self.coarse[a as usize] += w * *r;
             }
         }
         self.cholesky.solve(&self.coarse, &mut self.solution);
         std::mem::swap(&mut self.coarse, &mut self.solution);
-        for (own, z) in self.parents.iter().zip(z) {
-            for &(a, w) in own {
+        for ((own, &count), z) in parents.zip(z) {
+            for &(a, w) in &own[..count as usize] {
                 *z += w * self.coarse[a as usize];
             }
         }

@@ -8,8 +8,14 @@
 //! parts of the filtered system S along the warp and the weft threads (each node's whole
 //! diagonal block of S, and S's blocks between neighbours on the thread), the preconditioner is
 //! z = ½·(T_w⁻¹ + T_f⁻¹)·r, symmetric positive definite when both parts are.
+//!
+//! The factors are computed in double precision and stored in single precision: a solve reads
+//! every factor block (216 bytes a node, 432 in double precision), so the solve is bound
+//! by memory, not arithmetic. The preconditioner's precision does not change what conjugate
+//! gradients converge to (their residual is of the system itself, in double precision), only how
+//! fast; its rounding, 6·10⁻⁸ relative, lies far below the solve's tolerance.
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec3, Mat3, Vec3};
 
 use crate::forces::{ClothTopology, ParticleMatrix};
 
@@ -34,13 +40,12 @@ pub struct ThreadLines {
     /// For each entry, where the blocks between its node and the next and next-but-one nodes
     /// of its chain are stored in the particle matrix's row of the node ([`NONE`] past the end).
     ahead: Vec<[u32; 2]>,
-    /// Each entry's pivot block D_k of the banded LDLᵀ factor, and its inverse.
-    pivot: Vec<DMat3>,
-    pivot_inverse: Vec<DMat3>,
-    /// L_{k+1,k} and L_{k+2,k} of each entry k (zero past the chain's end).
-    lower: Vec<[DMat3; 2]>,
+    /// The inverse of each entry's pivot block D_k of the banded LDLᵀ factor (kg⁻¹).
+    pivot_inverse: Vec<Mat3>,
+    /// L_{k+1,k} and L_{k+2,k} of each entry k (dimensionless; zero past the chain's end).
+    lower: Vec<[Mat3; 2]>,
     /// Intermediate values of a solve, per entry.
-    work: Vec<DVec3>,
+    work: Vec<Vec3>,
     /// The chain of each entry.
     entry_chain: Vec<u32>,
     /// Each node's entry in its warp chain and in its weft chain ([`NONE`] if in none).
@@ -111,10 +116,9 @@ impl ThreadLines {
             nodes,
             chains,
             ahead,
-            pivot: vec![DMat3::ZERO; entries],
-            pivot_inverse: vec![DMat3::ZERO; entries],
-            lower: vec![[DMat3::ZERO; 2]; entries],
-            work: vec![DVec3::ZERO; entries],
+            pivot_inverse: vec![Mat3::ZERO; entries],
+            lower: vec![[Mat3::ZERO; 2]; entries],
+            work: vec![Vec3::ZERO; entries],
             entry_chain,
             node_entries,
             factored: false,
@@ -188,29 +192,35 @@ impl ThreadLines {
             }
         };
         let Chain { start, len } = self.chains[c];
+        // The last two entries' pivots and lower blocks in double precision, as the recurrence
+        // needs them ([0]: entry k − 1, [1]: entry k − 2).
+        let mut pivots = [DMat3::ZERO; 2];
+        let mut lowers = [[DMat3::ZERO; 2]; 2];
         for k in start..start + len {
             let i = self.nodes[k] as usize;
             // D_k = S_kk − Σ_j L_kj·D_j·L_kjᵀ over the two entries before k.
             let mut pivot = diagonal[i];
             for d in 1..=2 {
                 if k >= start + d {
-                    let l = self.lower[k - d][d - 1];
-                    pivot -= l * self.pivot[k - d] * l.transpose();
+                    let l = lowers[d - 1][d - 1];
+                    pivot -= l * pivots[d - 1] * l.transpose();
                 }
             }
             if !positive_definite(&pivot) {
                 return false;
             }
             let inverse = pivot.inverse();
-            self.pivot[k] = pivot;
-            self.pivot_inverse[k] = inverse;
             // L_{k+1,k} = (S_{k+1,k} − L_{k+1,k−1}·D_{k−1}·L_{k,k−1}ᵀ)·D_k⁻¹; L_{k+2,k} = S_{k+2,k}·D_k⁻¹.
             let mut next = below(&self.nodes, &self.ahead, k, 1);
             if k > start {
-                next -= self.lower[k - 1][1] * self.pivot[k - 1] * self.lower[k - 1][0].transpose();
+                next -= lowers[0][1] * pivots[0] * lowers[0][0].transpose();
             }
             let next2 = below(&self.nodes, &self.ahead, k, 2);
-            self.lower[k] = [next * inverse, next2 * inverse];
+            let lower = [next * inverse, next2 * inverse];
+            self.pivot_inverse[k] = inverse.as_mat3();
+            self.lower[k] = lower.map(|l| l.as_mat3());
+            pivots = [pivot, pivots[0]];
+            lowers = [lower, lowers[0]];
         }
         true
     }
@@ -218,40 +228,70 @@ impl ThreadLines {
     /// z = ½·(T_w⁻¹ + T_f⁻¹)·r with the last factors.
     pub fn solve(&mut self, r: &[DVec3], z: &mut [DVec3]) {
         z.fill(DVec3::ZERO);
-        for chain in &self.chains {
-            let (start, end) = (chain.start, chain.start + chain.len);
-            // Forward: y_k = r_k − L_{k,k−1}·y_{k−1} − L_{k,k−2}·y_{k−2}.
-            let (mut y1, mut y2) = (DVec3::ZERO, DVec3::ZERO);
-            for k in start..end {
-                let mut y = r[self.nodes[k] as usize];
-                if k > start {
-                    y -= self.lower[k - 1][0] * y1;
+        // Each chain's substitutions are a chain of dependent products; [`LANES`] neighbouring
+        // chains (distinct nodes, similar lengths) advance together so that the processor
+        // overlaps them. Each chain's arithmetic is the same as alone.
+        let chains = std::mem::take(&mut self.chains);
+        let mut groups = chains.chunks_exact(LANES);
+        for group in groups.by_ref() {
+            let group: [Chain; LANES] = std::array::from_fn(|lane| group[lane]);
+            self.solve_chains(group, r, z);
+        }
+        for &chain in groups.remainder() {
+            self.solve_chains([chain], r, z);
+        }
+        self.chains = chains;
+    }
+
+    /// The substitutions of `L` distinct chains, advanced in step.
+    fn solve_chains<const L: usize>(&mut self, chains: [Chain; L], r: &[DVec3], z: &mut [DVec3]) {
+        let longest = chains.iter().map(|c| c.len).max().unwrap_or(0);
+        // Forward: y_k = r_k − L_{k,k−1}·y_{k−1} − L_{k,k−2}·y_{k−2}.
+        let (mut y1, mut y2) = ([Vec3::ZERO; L], [Vec3::ZERO; L]);
+        for step in 0..longest {
+            for (lane, chain) in chains.iter().enumerate() {
+                if step >= chain.len {
+                    continue;
                 }
-                if k > start + 1 {
-                    y -= self.lower[k - 2][1] * y2;
+                let k = chain.start + step;
+                let mut y = r[self.nodes[k] as usize].as_vec3();
+                if step > 0 {
+                    y -= self.lower[k - 1][0] * y1[lane];
+                }
+                if step > 1 {
+                    y -= self.lower[k - 2][1] * y2[lane];
                 }
                 self.work[k] = y;
-                (y2, y1) = (y1, y);
+                (y2[lane], y1[lane]) = (y1[lane], y);
             }
-            // Back: x_k = D_k⁻¹·y_k − L_{k+1,k}ᵀ·x_{k+1} − L_{k+2,k}ᵀ·x_{k+2} (the two
-            // lower blocks are zero past the chain's end).
-            let (mut x1, mut x2) = (DVec3::ZERO, DVec3::ZERO);
-            for k in (start..end).rev() {
+        }
+        // Back: x_k = D_k⁻¹·y_k − L_{k+1,k}ᵀ·x_{k+1} − L_{k+2,k}ᵀ·x_{k+2} (the two lower
+        // blocks are zero past the chain's end).
+        let (mut x1, mut x2) = ([Vec3::ZERO; L], [Vec3::ZERO; L]);
+        for step in (0..longest).rev() {
+            for (lane, chain) in chains.iter().enumerate() {
+                if step >= chain.len {
+                    continue;
+                }
+                let k = chain.start + step;
                 let [l1, l2] = &self.lower[k];
                 let x = self.pivot_inverse[k] * self.work[k]
-                    - transposed_product(l1, x1)
-                    - transposed_product(l2, x2);
-                z[self.nodes[k] as usize] += 0.5 * x;
-                (x2, x1) = (x1, x);
+                    - transposed_product(l1, x1[lane])
+                    - transposed_product(l2, x2[lane]);
+                z[self.nodes[k] as usize] += 0.5 * x.as_dvec3();
+                (x2[lane], x1[lane]) = (x1[lane], x);
             }
         }
     }
 }
 
+/// Chains a solve advances together.
+const LANES: usize = 4;
+
 /// Lᵀ·x.
 #[inline(always)]
-fn transposed_product(l: &DMat3, x: DVec3) -> DVec3 {
-    DVec3::new(l.x_axis.dot(x), l.y_axis.dot(x), l.z_axis.dot(x))
+fn transposed_product(l: &Mat3, x: Vec3) -> Vec3 {
+    Vec3::new(l.x_axis.dot(x), l.y_axis.dot(x), l.z_axis.dot(x))
 }
 
 /// Whether a symmetric 3×3 block is positive definite (Sylvester's criterion; false for NaN).
