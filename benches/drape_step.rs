@@ -160,7 +160,7 @@ fn bench_implicit(c: &mut Criterion) {
             .map(|i| i.0.stats)
             .unwrap_or_default();
         let ledger = world.resource::<EffectLedger>().clone();
-        print_split(actual, &ledger, wall);
+        print_split(actual, &ledger, wall, "");
         let steps = (after.solves - before.solves).max(1) as f64;
         let per = |a: f64, b: f64| (a - b) / steps * 1e3;
         let solve = ledger.get("implicit_solve").1 / steps * 1e3;
@@ -230,6 +230,7 @@ fn bench(c: &mut Criterion) {
             actual,
             &world.resource::<EffectLedger>().clone(),
             start.elapsed().as_secs_f64(),
+            " (incl. criterion overhead)",
         );
 
         let mut builtin = builtin_cloth(&scene, actual);
@@ -248,8 +249,9 @@ fn scene_node_count(world: &mut World) -> usize {
     query.iter(world).map(|s| s.positions.len()).sum()
 }
 
-/// Our step's split, from the scene runner's ledger over every timed step.
-fn print_split(nodes: usize, ledger: &EffectLedger, wall: f64) {
+/// Our step's split, from the scene runner's ledger over every timed step; `overhead` says
+/// what else `wall` (s) holds.
+fn print_split(nodes: usize, ledger: &EffectLedger, wall: f64, overhead: &str) {
     let (calls, rapier) = ledger.get("rapier_step");
     if calls == 0 {
         return;
@@ -264,7 +266,7 @@ fn print_split(nodes: usize, ledger: &EffectLedger, wall: f64) {
     let per = |s: f64| s / calls as f64 * 1e3;
     let step = wall / calls as f64 * 1e3;
     eprintln!(
-        "drape_step/kes/{nodes}: {calls} steps, {step:.3} ms per step (incl. criterion overhead): \
+        "drape_step/kes/{nodes}: {calls} steps, {step:.3} ms per step{overhead}: \
          our forces {:.3} ms ({:.1} %), implicit solve {:.3} ms, Rapier {:.3} ms ({:.1} %), \
          measurement and schedule {:.3} ms; per node-step {:.0} ns",
         per(forces),

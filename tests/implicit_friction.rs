@@ -254,7 +254,8 @@ fn kes_stretch_with_friction_in_the_solve_rests_without_jitter() {
 }
 
 /// After 0.5 s of sliding at [`H`], one step 1.8 times as long (the largest change BDF2 keeps
-/// its history across) and, separately, one half as long: over that step the sheet still
+/// its history across; the solve here is backward Euler's, whose carried impulse scales the same
+/// way) and, separately, one half as long: over that step the sheet still
 /// accelerates at Coulomb's rate g·(sin θ − 1.2·μ·cos θ), within 10 %. (The drag's lag: taken
 /// from the speed at the step's start, 2.3 % below its end's over the long step, it overstates
 /// the friction, four times the net rate, by about 9 % of that rate; measured 1.084 against
