@@ -44,32 +44,20 @@ fn slide_with(
     steps: usize,
     friction_release: FrictionRelease,
 ) -> (DVec3, f64, ImplicitStats) {
-    slide_at(theta, press, friction, steps, friction_release, &[1.0])
-}
-
-/// [`slide_with`], step k being `pattern[k % pattern.len()]` times [`H`] (for the rate tests
-/// `pattern` averages 1 and `steps` is a multiple of its length).
-fn slide_at(
-    theta: f64,
-    press: f64,
-    friction: bool,
-    steps: usize,
-    friction_release: FrictionRelease,
-    pattern: &[f64],
-) -> (DVec3, f64, ImplicitStats) {
-    slide_by(
+    slide_at(
         Scheme::BackwardEuler,
         theta,
         press,
         friction,
         steps,
         friction_release,
-        pattern,
+        &[1.0],
     )
 }
 
-/// [`slide_at`], stepped by `scheme`.
-fn slide_by(
+/// [`slide_with`], stepped by `scheme`, step k being `pattern[k % pattern.len()]` times [`H`]
+/// (for the rate tests `pattern` averages 1 and `steps` is a multiple of its length).
+fn slide_at(
     scheme: Scheme,
     theta: f64,
     press: f64,
@@ -167,8 +155,8 @@ fn coulomb_slide(release: FrictionRelease, max_lag: f64) -> (DVec3, ImplicitStat
 /// [`coulomb_slide`] at steps following `pattern` ([`slide_at`]).
 fn coulomb_slide_at(release: FrictionRelease, max_lag: f64, pattern: &[f64]) -> (DVec3, ImplicitStats) {
     let theta = (1.5 * MU).atan();
-    let (early, _, _) = slide_at(theta, 0.2, true, 120, release, pattern);
-    let (v, _, stats) = slide_at(theta, 0.2, true, 240, release, pattern);
+    let (early, _, _) = slide_at(Scheme::BackwardEuler, theta, 0.2, true, 120, release, pattern);
+    let (v, _, stats) = slide_at(Scheme::BackwardEuler, theta, 0.2, true, 240, release, pattern);
     let expected = G * (theta.sin() - 1.2 * MU * theta.cos());
     let rate = (v.x - early.x) / 0.5;
     assert!(
@@ -228,7 +216,15 @@ fn holds_released_on_the_next_step_keep_coulombs_law_with_one_solve_a_step() {
 #[test]
 fn a_sheet_slides_at_coulombs_rate_at_a_step_that_varies_every_step() {
     let theta = (1.5 * MU).atan();
-    let (_, moved, _) = slide_at(theta, 2.0, true, 240, FrictionRelease::SameStep, &JITTER);
+    let (_, moved, _) = slide_at(
+        Scheme::BackwardEuler,
+        theta,
+        2.0,
+        true,
+        240,
+        FrictionRelease::SameStep,
+        &JITTER,
+    );
     assert!(moved < 1e-9, "moved {moved:e} m in 1 s inside the friction cone");
     coulomb_slide_at(FrictionRelease::SameStep, 0.25, &JITTER);
 }
@@ -297,7 +293,7 @@ fn a_sliding_sheet_keeps_coulombs_rate_over_a_single_change_of_step() {
         let mut pattern = vec![1.0; 120];
         pattern.push(ratio);
         let slide = |steps| {
-            slide_by(
+            slide_at(
                 scheme,
                 theta,
                 0.2,
