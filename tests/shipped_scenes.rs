@@ -15,8 +15,8 @@
 //! constant step).
 //!
 //! Every simulation runs once, in one pool: the four drapes with the 5 s watch after settling
-//! serve both claims (the centred drapemeter runs also serve as one of three lattice
-//! placements of their fabric); the two tablecloths serve their checks and the seed's claim on
+//! serve both claims (the centred drapemeter runs, and thick cotton's centred Cusick run, also
+//! serve as one of three lattice placements); the two tablecloths serve their checks and the seed's claim on
 //! the table (cotton's skirt folds less than wool's).
 
 use std::sync::OnceLock;
@@ -168,7 +168,8 @@ fn tablecloth(name: &str) -> (&'static Scene, &'static RunOutcome) {
 
 /// Every simulation of this file, run once (two at a time, the longest first, so that the
 /// two cores stay busy) the first time any test asks: the four drapes with the 5 s watch
-/// ([`WATCHED`]), each fabric's next two lattice placements on the drapemeter ([`PLACED`]),
+/// ([`WATCHED`]), each fabric's next two lattice placements on the drapemeter and thick
+/// cotton's on the Cusick tester ([`PLACED`]),
 /// thick cotton's drapemeter at 1.875 mm ([`FINER`]) and the two tablecloths. Each entry is
 /// (scene, run, which set: [`WATCHED`], [`PLACED`], [`FINER`] or "" for a shipped run).
 fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
@@ -185,9 +186,14 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
         // Thin wool on the Cusick tester (11,289 nodes, and the one that may pass slowly
         // through a shape not at rest) is the longest; thin wool's drapemeter runs come next.
         scenes.push((load("cusick_wool", &watch), WATCHED));
-        scenes.push((load("drape_wool", &watch), WATCHED));
         let placements =
             |name: &str| kes_cloth::repeat::repeat_scenes(&load(name, &[]), 3, true).split_off(1);
+        // Thick cotton's Cusick placements: one of them passes slowly through a skirt shape
+        // not at rest (at rest at 12 s), so they start early.
+        for placed in placements("cusick_cotton") {
+            scenes.push((placed, PLACED));
+        }
+        scenes.push((load("drape_wool", &watch), WATCHED));
         for placed in placements("drape_wool") {
             scenes.push((placed, PLACED));
         }
@@ -213,7 +219,7 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
 
 /// The drapes run with the 5 s watch after settling.
 const WATCHED: &str = "watched";
-/// The drapemeter runs at the next lattice placements.
+/// The drapemeter runs, and thick cotton's Cusick runs, at the next lattice placements.
 const PLACED: &str = "placed";
 /// Thick cotton's drapemeter run on a lattice 1.33 times finer (1.875 mm).
 const FINER: &str = "finer";
@@ -325,19 +331,11 @@ fn drapes_come_to_rest_within_their_budget_and_do_not_creep() {
 /// Thick cotton's counterpart, with its finer lattice, is the next test.
 #[test]
 fn thin_wools_drape_moves_by_less_than_a_hundredth_with_placement() {
-    let s = placements("drape_wool");
-    let (mean, sd) = (s.dc_mean.expect("a DC each"), s.dc_std.expect("a DC each"));
-    println!("2.5 mm: {mean:.4} ± {sd:.4} ({:?})", s.nodes);
-    assert!(sd <= 0.01, "DC {mean:.4} ± {sd:.4}");
-    assert!(
-        s.nodes.iter().all(|n| *n == s.modal_nodes),
-        "node counts {:?}",
-        s.nodes
-    );
+    spread_within_a_hundredth("drape_wool");
 }
 
-/// The drapemeter runs of `name` at its three lattice placements (the centred one with its 5 s
-/// watch), summarised; each must have settled.
+/// The runs of drape scene `name` at its three lattice placements (the centred one with its
+/// 5 s watch), summarised; each must have settled.
 fn placements(name: &str) -> kes_cloth::repeat::RepeatSummary {
     let centred = &settled_drape(name).1.metrics;
     let placed = all_runs()
@@ -352,6 +350,33 @@ fn placements(name: &str) -> kes_cloth::repeat::RepeatSummary {
     s
 }
 
+/// The three placements of drape scene `name` ([`placements`]) give a DC standard deviation of
+/// at most 0.01 and one node count; returns their summary and mean DC.
+fn spread_within_a_hundredth(name: &str) -> (kes_cloth::repeat::RepeatSummary, f64) {
+    let s = placements(name);
+    let (mean, sd) = (s.dc_mean.expect("a DC each"), s.dc_std.expect("a DC each"));
+    println!("{name}, 2.5 mm: {mean:.4} ± {sd:.4} ({:?})", s.nodes);
+    assert!(sd <= 0.01, "{name}: DC {mean:.4} ± {sd:.4}");
+    assert!(
+        s.nodes.iter().all(|n| *n == s.modal_nodes),
+        "{name}: node counts {:?}",
+        s.nodes
+    );
+    (s, mean)
+}
+
+/// Thick cotton's drape on the Cusick tester as shipped (2.5 mm, the smooth start) is the
+/// fabric's, not where the lattice falls, to the target of 0.01: three placements (the centred
+/// one with its 5 s watch, all at seed 0) give a DC standard deviation of at most 0.01 and one
+/// node count (measured 0.762 ± 0.005, 6 nodes each: 0.768 / 0.761 / 0.758). Against a finer
+/// lattice it is not tested here (a Cusick run at 1.875 mm costs several minutes): the rim's
+/// first-order term leaves 2.5 mm 0.008–0.011 below the limit of 0.770–0.773 (`docs/accuracy.md`
+/// §4).
+#[test]
+fn thick_cottons_cusick_drape_moves_by_less_than_a_hundredth_with_placement() {
+    spread_within_a_hundredth("cusick_cotton");
+}
+
 /// Thick cotton's drape as shipped is the fabric's, not the lattice's, to the target of 0.01:
 /// on the seed's drapemeter (2.5 mm, the smooth start), three placements (the centred one with
 /// its 5 s watch, all at seed 0) give a DC standard deviation of at most 0.01 and one node
@@ -363,19 +388,12 @@ fn placements(name: &str) -> kes_cloth::repeat::RepeatSummary {
 /// (the test above).
 #[test]
 fn thick_cottons_drape_moves_by_less_than_a_hundredth_with_placement_or_a_finer_lattice() {
-    let s = placements("drape_cotton");
-    let (mean, sd) = (s.dc_mean.expect("a DC each"), s.dc_std.expect("a DC each"));
-    assert!(sd <= 0.01, "DC {mean:.4} ± {sd:.4}");
-    assert!(
-        s.nodes.iter().all(|n| *n == s.modal_nodes),
-        "node counts {:?}",
-        s.nodes
-    );
+    let (s, mean) = spread_within_a_hundredth("drape_cotton");
     let fine = &run_named("drape_cotton", FINER).1.metrics;
     assert!(fine.settled, "the 1.875 mm drape is not at rest");
     let fine_dc = fine.drape_coefficient.expect("a DC");
     println!(
-        "2.5 mm: {mean:.4} ± {sd:.4} ({:?}); 1.875 mm: {fine_dc:.4} ({:?})",
+        "2.5 mm: {mean:.4} ({:?}); 1.875 mm: {fine_dc:.4} ({:?})",
         s.nodes, fine.nodes
     );
     assert!(

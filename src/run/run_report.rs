@@ -310,8 +310,9 @@ fn estimate_line(estimate: Option<&ErrorEstimate>) -> String {
             Some(why) => format!("  numerical error not estimated: {why}\n"),
             None => format!(
                 "  ± estimates the numerical error as {:.0}× |this run − the same scene at {:.2} mm \
-                 ({}× the spacing{})|, an error of first order in the spacing; `kes-cloth \
-                 converge` measures the order and extrapolates\n",
+                 ({}× the spacing{})|, an error of first order in the spacing at this step (the \
+                 step's own share is not in it); `kes-cloth converge` measures the order and \
+                 extrapolates\n",
                 1.0 / (e.ratio.powf(e.assumed_order) - 1.0),
                 e.companion_spacing_m * 1e3,
                 e.ratio,

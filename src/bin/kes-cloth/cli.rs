@@ -77,7 +77,9 @@ pub struct RunArgs {
     /// Skip the companion run that estimates the numerical error of a single run's measured
     /// values (DC, corner hang, cantilever chord): by default the same scene is run again at
     /// 1.5 times the spacing (2 or 3 times where a clamp's or a table's edge lies on a row of nodes, so that it lies on one in both runs), which costs about half as much
-    /// again, and each value is printed as value ± error.
+    /// again, and each value is printed as value ± error. The companion takes the run's step,
+    /// so the error is the lattice's at that step; the step's own share is measured with
+    /// `kes-cloth study SCENE --vary integration.dt_s=...` (docs/accuracy.md, "The step").
     #[arg(long)]
     pub no_error_estimate: bool,
     /// With --repeat: only plan the runs as task files in DIR (`--out`), for `kes-cloth task`
