@@ -16,8 +16,8 @@
 //!
 //! Every simulation runs once, in one pool: the four drapes with the 5 s watch after settling
 //! serve both claims (the centred drapemeter runs, and thick cotton's centred Cusick run, also
-//! serve as one of three lattice placements); the two tablecloths serve their checks and the seed's claim on
-//! the table (cotton's skirt folds less than wool's).
+//! serve as one of three lattice placements); the two tablecloths serve their checks and the
+//! seed's claim on the table (cotton's skirt folds less than wool's).
 
 use std::sync::OnceLock;
 
@@ -184,12 +184,13 @@ fn all_runs() -> &'static [(Scene, RunOutcome, &'static str)] {
         };
         let mut scenes: Vec<(Scene, &'static str)> = Vec::new();
         // Thin wool on the Cusick tester (11,289 nodes, and the one that may pass slowly
-        // through a shape not at rest) is the longest; thin wool's drapemeter runs come next.
+        // through a shape not at rest) is the longest; thick cotton's Cusick placements and
+        // thin wool's drapemeter runs come next.
         scenes.push((load("cusick_wool", &watch), WATCHED));
         let placements =
             |name: &str| kes_cloth::repeat::repeat_scenes(&load(name, &[]), 3, true).split_off(1);
-        // Thick cotton's Cusick placements: one of them passes slowly through a skirt shape
-        // not at rest (at rest at 12 s), so they start early.
+        // One of thick cotton's Cusick placements passes slowly through a skirt shape not at
+        // rest (at rest at 12 s).
         for placed in placements("cusick_cotton") {
             scenes.push((placed, PLACED));
         }
