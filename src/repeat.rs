@@ -30,8 +30,78 @@ pub struct RepeatSummary {
     pub dc_mean: Option<f64>,
     /// Sample standard deviation of DC (0 for a single run).
     pub dc_std: Option<f64>,
+    /// The standard error of the mean DC, `dc_std`/√n over the n runs that measured one: how
+    /// far another set of as many runs would put the mean, one standard deviation. None below
+    /// two runs.
+    pub dc_standard_error: Option<f64>,
+    /// The node counts the runs formed, each with its runs and their DC, most frequent first
+    /// (the smaller count on a tie). A drape near a change of shape forms more than one: thin
+    /// wool forms 8 or 9 nodes by lattice placement and step (`docs/accuracy.md`), and its DC
+    /// differs between them by more than within either.
+    pub node_counts: Vec<NodeCountGroup>,
     /// Lattice offset of each run (m, along warp and weft).
     pub lattice_offsets_m: Vec<[f64; 2]>,
+}
+
+/// The runs of a repeat that formed one node count.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NodeCountGroup {
+    /// The node count (the drape's folds).
+    pub nodes: u32,
+    /// How many runs formed it.
+    pub runs: usize,
+    /// Mean DC of those runs (dimensionless), if they measured one.
+    pub dc_mean: Option<f64>,
+    /// Sample standard deviation of their DC (0 for a single run).
+    pub dc_std: Option<f64>,
+}
+
+impl RepeatSummary {
+    /// The node counts in words, most frequent first: "8 in all 4 runs", or "9 in 3 runs, 8 in 1".
+    pub fn node_counts_text(&self) -> String {
+        match self.node_counts.as_slice() {
+            [] => "not measured".into(),
+            [only] if only.runs == self.runs && self.runs > 1 => {
+                format!("{} in all {} runs", only.nodes, only.runs)
+            }
+            groups => groups
+                .iter()
+                .enumerate()
+                .map(|(i, g)| match (i, g.runs) {
+                    (0, 1) => format!("{} in 1 run", g.nodes),
+                    (0, r) => format!("{} in {r} runs", g.nodes),
+                    (_, r) => format!("{} in {r}", g.nodes),
+                })
+                .collect::<Vec<_>>()
+                .join(", "),
+        }
+    }
+
+    /// DC's mean ± sample standard deviation over the runs, and the mean's standard error:
+    /// "0.376 ± 0.006 (sd; the mean to ± 0.003)".
+    pub fn dc_text(&self) -> String {
+        match (self.dc_mean, self.dc_std, self.dc_standard_error) {
+            (Some(m), Some(sd), Some(se)) => format!("{m:.3} ± {sd:.3} (sd; the mean to ± {se:.3})"),
+            (Some(m), _, _) => format!("{m:.3} (one run)"),
+            _ => "-".into(),
+        }
+    }
+
+    /// DC for each node count, when the runs formed more than one: "9 nodes 0.378 ± 0.004,
+    /// 8 nodes 0.369"; None for a single node count.
+    pub fn dc_by_node_count_text(&self) -> Option<String> {
+        (self.node_counts.len() > 1).then(|| {
+            self.node_counts
+                .iter()
+                .map(|g| match (g.dc_mean, g.dc_std, g.runs) {
+                    (Some(m), Some(sd), r) if r > 1 => format!("{} nodes {m:.3} ± {sd:.3}", g.nodes),
+                    (Some(m), _, _) => format!("{} nodes {m:.3}", g.nodes),
+                    _ => format!("{} nodes -", g.nodes),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+    }
 }
 
 /// The scenes of `n` repeats of `scene`: run k has seed k and, if `placements`, the k-th
@@ -101,26 +171,14 @@ pub fn summarise(outcomes: &[RunOutcome]) -> RepeatSummary {
 pub fn summarise_metrics(runs: &[&Metrics]) -> RepeatSummary {
     let nodes: Vec<Option<u32>> = runs.iter().map(|m| m.nodes).collect();
     let dcs: Vec<Option<f64>> = runs.iter().map(|m| m.drape_coefficient).collect();
-    let mut counts = std::collections::BTreeMap::new();
-    for n in nodes.iter().flatten() {
-        *counts.entry(*n).or_insert(0usize) += 1;
-    }
-    let modal_nodes = counts
-        .iter()
-        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))
-        .map(|(n, _)| *n);
+    let pairs: Vec<(Option<u32>, Option<f64>)> = nodes.iter().copied().zip(dcs.iter().copied()).collect();
+    let node_counts = node_count_groups(&pairs);
+    let modal_nodes = node_counts.first().map(|g| g.nodes);
     let values: Vec<f64> = dcs.iter().flatten().copied().collect();
-    let (dc_mean, dc_std) = if values.is_empty() {
-        (None, None)
-    } else {
-        let mean = values.iter().sum::<f64>() / values.len() as f64;
-        let var = if values.len() > 1 {
-            values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64
-        } else {
-            0.0
-        };
-        (Some(mean), Some(var.sqrt()))
-    };
+    let (dc_mean, dc_std) = mean_and_sd(&values);
+    let dc_standard_error = dc_std
+        .filter(|_| values.len() > 1)
+        .map(|sd| sd / (values.len() as f64).sqrt());
     RepeatSummary {
         runs: runs.len(),
         settled: runs.iter().filter(|m| m.settled).count(),
@@ -129,8 +187,52 @@ pub fn summarise_metrics(runs: &[&Metrics]) -> RepeatSummary {
         drape_coefficients: dcs,
         dc_mean,
         dc_std,
+        dc_standard_error,
+        node_counts,
         lattice_offsets_m: runs.iter().map(|m| m.lattice_offset_m).collect(),
     }
+}
+
+/// The runs grouped by node count, from each run's (node count, DC): most frequent first, the
+/// smaller count first on a tie; runs without a node count are left out.
+pub fn node_count_groups(runs: &[(Option<u32>, Option<f64>)]) -> Vec<NodeCountGroup> {
+    let mut by_count = std::collections::BTreeMap::<u32, Vec<Option<f64>>>::new();
+    for (n, dc) in runs {
+        if let Some(n) = n {
+            by_count.entry(*n).or_default().push(*dc);
+        }
+    }
+    let mut groups: Vec<NodeCountGroup> = by_count
+        .into_iter()
+        .map(|(n, group)| {
+            let values: Vec<f64> = group.iter().flatten().copied().collect();
+            let (dc_mean, dc_std) = mean_and_sd(&values);
+            NodeCountGroup {
+                nodes: n,
+                runs: group.len(),
+                dc_mean,
+                dc_std,
+            }
+        })
+        .collect();
+    // The map gave ascending counts; a stable sort keeps the smaller first on a tie.
+    groups.sort_by_key(|g| std::cmp::Reverse(g.runs));
+    groups
+}
+
+/// The mean and sample standard deviation (0 for one value) of `values`; None if empty.
+fn mean_and_sd(values: &[f64]) -> (Option<f64>, Option<f64>) {
+    if values.is_empty() {
+        return (None, None);
+    }
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = if values.len() > 1 {
+        values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (Some(mean), Some(var.sqrt()))
 }
 
 /// How a batch of repeats combines: task K is run K (seed K and/or the K-th placement).
@@ -220,4 +322,78 @@ pub fn collect_repeats(dir: &Path, manifest: &Manifest<RepeatLayout>) -> Result<
         missing,
         placements: manifest.layout.placements,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(runs: &[(Option<u32>, Option<f64>)]) -> RepeatSummary {
+        let values: Vec<f64> = runs.iter().filter_map(|r| r.1).collect();
+        let (dc_mean, dc_std) = mean_and_sd(&values);
+        let node_counts = node_count_groups(runs);
+        RepeatSummary {
+            runs: runs.len(),
+            settled: runs.len(),
+            modal_nodes: node_counts.first().map(|g| g.nodes),
+            nodes: runs.iter().map(|r| r.0).collect(),
+            drape_coefficients: runs.iter().map(|r| r.1).collect(),
+            dc_mean,
+            dc_std,
+            dc_standard_error: dc_std
+                .filter(|_| values.len() > 1)
+                .map(|s| s / (values.len() as f64).sqrt()),
+            node_counts,
+            lattice_offsets_m: vec![[0.0; 2]; runs.len()],
+        }
+    }
+
+    /// Thin wool at 1/960 s over four placements formed 9, 9, 9 and 8 nodes: the groups say so,
+    /// most frequent first, each with its own DC (the 9-node runs' mean of three values, exact
+    /// to rounding).
+    #[test]
+    fn a_drape_of_two_shapes_is_reported_by_node_count() {
+        let s = summary(&[
+            (Some(9), Some(0.380)),
+            (Some(8), Some(0.368)),
+            (Some(9), Some(0.376)),
+            (Some(9), Some(0.378)),
+        ]);
+        assert_eq!(s.modal_nodes, Some(9));
+        assert_eq!(
+            s.node_counts
+                .iter()
+                .map(|g| (g.nodes, g.runs))
+                .collect::<Vec<_>>(),
+            [(9, 3), (8, 1)]
+        );
+        assert!(
+            s.node_counts[0]
+                .dc_mean
+                .is_some_and(|m| (m - 0.378).abs() < 1e-12)
+        );
+        assert_eq!(s.node_counts[1].dc_std, Some(0.0));
+        assert_eq!(s.node_counts_text(), "9 in 3 runs, 8 in 1");
+        assert_eq!(
+            s.dc_by_node_count_text().as_deref(),
+            Some("9 nodes 0.378 ± 0.002, 8 nodes 0.368")
+        );
+        // sd of (0.380, 0.368, 0.376, 0.378) is 0.00525; over √4 runs the mean is known to 0.0026.
+        assert_eq!(s.dc_text(), "0.376 ± 0.005 (sd; the mean to ± 0.003)");
+    }
+
+    /// An even split names the smaller count first (the modal count's tie rule), and one shape
+    /// over all runs reads as such, with no breakdown.
+    #[test]
+    fn ties_name_the_smaller_count_and_one_shape_has_no_breakdown() {
+        let tie = summary(&[(Some(9), Some(0.38)), (Some(8), Some(0.37))]);
+        assert_eq!(tie.modal_nodes, Some(8));
+        assert_eq!(tie.node_counts_text(), "8 in 1 run, 9 in 1");
+        let one = summary(&[(Some(8), Some(0.365)), (Some(8), Some(0.367)), (None, None)]);
+        assert_eq!(one.node_counts_text(), "8 in 2 runs");
+        assert_eq!(one.dc_by_node_count_text(), None);
+        let all = summary(&[(Some(4), Some(0.74)), (Some(4), Some(0.74))]);
+        assert_eq!(all.node_counts_text(), "4 in all 2 runs");
+        assert_eq!(summary(&[(Some(4), Some(0.74))]).dc_text(), "0.740 (one run)");
+    }
 }

@@ -169,6 +169,43 @@ impl ClothBodies {
         }
     }
 
+    /// Applies the strain limit ([`crate::implicit::limit_strain`]) to the state Rapier's step
+    /// left, `positions` (m) and `velocities` (m/s) as just read: if a
+    /// link of `topology` is outside the limit, moves the nodes (those `held` and those on a
+    /// host's dynamic body stay) and
+    /// writes the moved ones back into Rapier. Returns how many nodes it moved (0: nothing
+    /// changed, the usual case).
+    pub fn limit_strain(
+        &self,
+        world: &mut PhysicsWorld,
+        (topology, held): (&ClothTopology, &[bool]),
+        positions: &mut [DVec3],
+        velocities: &mut [DVec3],
+    ) -> usize {
+        if !self.joints.is_empty() || !crate::implicit::over_limit(topology, positions) {
+            return 0;
+        }
+        // A node on a host's dynamic body stays too: moved into the body, Rapier's contact would
+        // push the body away.
+        let immovable: Vec<bool> = self
+            .handles
+            .iter()
+            .zip(held)
+            .map(|(h, held)| *held || self.touches_dynamic_body(world, *h))
+            .collect();
+        let moved = crate::implicit::limit_strain(topology, &self.masses, &immovable, positions, velocities);
+        for &i in &moved {
+            if let Some(body) = self.handles.get(i).and_then(|h| world.bodies.get_mut(*h)) {
+                body.set_translation(positions[i].as_vec3(), false);
+                body.set_linvel(velocities[i].as_vec3(), false);
+                // The state holds what Rapier holds (f32), as a read would give.
+                positions[i] = body.translation().as_dvec3();
+                velocities[i] = body.linvel().as_dvec3();
+            }
+        }
+        moved.len()
+    }
+
     /// The acceleration (m/s²) Rapier's gravity gives the nodes: the world's gravity times the
     /// nodes' gravity scale (zero for a cloth built without gravity).
     pub fn gravity(&self, world: &PhysicsWorld) -> DVec3 {
@@ -311,6 +348,17 @@ impl ClothBodies {
                 }
             }
         }
+    }
+
+    /// Whether Rapier's last step found node `node` in contact with a dynamic body that is not
+    /// a cloth node.
+    fn touches_dynamic_body(&self, world: &PhysicsWorld, node: RigidBodyHandle) -> bool {
+        world.bodies.get(node).is_some_and(|body| {
+            body_pairs(world, body).any(|(pair, other, _)| {
+                pair.has_any_active_contact()
+                    && collider_body(world, other).is_some_and(|b| b.is_dynamic() && !self.is_node(b))
+            })
+        })
     }
 
     /// Whether `body` is a cloth node (of any cloth): nodes carry a surface normal.

@@ -113,8 +113,10 @@ impl KesCloth {
     /// a non-finite position or velocity, or a runaway (a node faster than
     /// [`crate::measure::RUNAWAY_SPEED`] or a link strained beyond
     /// [`crate::measure::RUNAWAY_STRAIN`]), is an error naming the effect pushing hardest on the
-    /// node at fault.
-    pub fn after_step(&mut self, world: &PhysicsWorld) -> Result<(), StepError> {
+    /// node at fault. Before the checks, an implicit cloth's links are brought within the
+    /// strain limit ([`crate::implicit::limit_strain`]; the moved nodes are written back into
+    /// `world`).
+    pub fn after_step(&mut self, world: &mut PhysicsWorld) -> Result<(), StepError> {
         if let Some(failure) = &self.failure {
             return Err(failure.clone());
         }
@@ -124,6 +126,14 @@ impl KesCloth {
         std::mem::swap(&mut state.positions, &mut state.previous_positions);
         p.bodies.read(world, &mut state.positions, &mut state.velocities);
         p.bodies.read_body_loads(world, dt, &mut self.body_loads);
+        let limited = p.implicit.as_ref().map_or(0, |solver| {
+            p.bodies.limit_strain(
+                world,
+                (&state.topology, solver.held()),
+                &mut state.positions,
+                &mut state.velocities,
+            )
+        });
         if let Some(node) = non_finite_state(&state.positions, &state.velocities) {
             let message = non_finite_state_message(state.positions[node], state.velocities[node], dt);
             return Err(self.fail(node, "rapier_step", message));
@@ -140,10 +150,17 @@ impl KesCloth {
                 .effects
                 .strongest_at(node, &state.topology, &state.positions, &state.velocities)
                 .unwrap_or("rapier_step");
-            let message = runaway_message(&motion, p.implicit.is_some(), !p.bodies.joints.is_empty(), dt);
+            let message = runaway_message(
+                &motion,
+                p.implicit.is_some(),
+                !p.bodies.joints.is_empty(),
+                (dt, state.topology.spacing),
+            );
             return Err(self.fail(node, effect, message));
         }
+        let limited_steps = self.motion.strain_limited_steps + u64::from(limited > 0);
         self.motion = motion;
+        self.motion.strain_limited_steps = limited_steps;
         self.steps += 1;
         self.time += dt;
         Ok(())

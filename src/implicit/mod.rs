@@ -48,6 +48,7 @@ mod preconditioner;
 mod scheme;
 mod solver_settings;
 mod sparse_cholesky;
+mod strain_limit;
 mod supports;
 mod thread_lines;
 
@@ -60,6 +61,7 @@ pub use preconditioner::{KEEP_COARSE_FOR_RELEASED, Preconditioner, TWO_LEVEL_FRO
 pub use scheme::{Bdf2History, Scheme};
 pub use solver_settings::{FrictionRelease, ImplicitSettings, ImplicitStats, LINK_TOLERANCE};
 pub use sparse_cholesky::SparseCholesky;
+pub use strain_limit::{STRAIN_LIMIT, limit_strain, over_limit};
 pub use supports::Supports;
 pub use thread_lines::ThreadLines;
 

@@ -42,12 +42,22 @@ pub fn non_finite_solve_message(force: DVec3) -> String {
 }
 
 /// The message for a runaway, with its likely causes (implicit or not, rope joints or not, the
-/// step `dt`, s).
-pub fn runaway_message(motion: &Motion, implicit: bool, rope_joints: bool, dt: f64) -> String {
+/// step `dt`, s, and the lattice's spacing `spacing_m`, m).
+pub fn runaway_message(
+    motion: &Motion,
+    implicit: bool,
+    rope_joints: bool,
+    (dt, spacing_m): (f64, f64),
+) -> String {
     format!(
         "runaway: fastest node {:.2} m/s, largest link strain {:.0} %; {}",
         motion.max_speed,
         motion.max_strain * 100.0,
-        runaway_causes(implicit, rope_joints, dt)
+        runaway_causes(
+            implicit,
+            rope_joints,
+            dt,
+            (motion.max_speed * dt / spacing_m, spacing_m)
+        )
     )
 }

@@ -29,6 +29,11 @@ pub struct Motion {
     /// Deepest node centre inside a world collider at the end of any step so far (m); measured
     /// only where a [`WorldColliders`] resource lists the colliders.
     pub peak_penetration: f64,
+    /// Steps so far after which the strain limit moved nodes (an implicit cloth's links held
+    /// within [`crate::implicit::STRAIN_LIMIT`]; 0 at the shipped scenes' steps, `docs/model.md`
+    /// §12, "The longest step").
+    #[serde(default)]
+    pub strain_limited_steps: u64,
 }
 
 /// The world's colliders as true shapes with their centres (m), for the per-step penetration
@@ -87,8 +92,10 @@ impl Motion {
 }
 
 /// What to suspect when a run runs away: with the implicit solve our forces are stable at any
-/// step, so there it is the rope joints (solved by Rapier, after our solve) or the load.
-pub fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64) -> String {
+/// step, so there it is the rope joints (solved by Rapier, after our solve), a step that carries
+/// nodes too far for one linear solve, or the load. `stride` is how far the fastest node moves
+/// in a step, in spacings (its speed times `dt` (s) over the spacing `spacing_m` (m)).
+pub fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64, (stride, spacing_m): (f64, f64)) -> String {
     let load = "a load the links cannot carry, such as a body much heavier than the nodes \
                 pressing on the cloth (scenes/hard/ball_impact.ron)";
     match (implicit, rope_joints) {
@@ -98,6 +105,16 @@ pub fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64) -> String {
              smaller integration.dt_s, or effects.stretch: Kes, which the implicit solve \
              integrates itself, docs/model.md §12), or {load}"
         ),
+        (true, false) if stride > LONG_STRIDE => format!(
+            "likely cause: a step too long for the lattice: the fastest node moves {stride:.1} \
+             spacings a step (dt = {dt} s, spacing {:.2} mm). The solve knows only the contacts \
+             of the last step, so where a surface stops nodes within the step their neighbours \
+             swing about them by more than a spacing and the links stretch (docs/model.md §12, \
+             \"The longest step\"); try integration.dt_s ≤ {:.4} s (half a spacing a step) or a \
+             coarser cloth.spacing_m; else {load}",
+            spacing_m * 1e3,
+            dt * LONG_STRIDE / stride
+        ),
         (true, false) => format!("likely cause: {load}"),
         (false, _) => format!(
             "likely causes: dt = {dt} s is too large for this effect's stiffness when applied \
@@ -106,6 +123,11 @@ pub fn runaway_causes(implicit: bool, rope_joints: bool, dt: f64) -> String {
         ),
     }
 }
+
+/// A node moving more than this many spacings a step can leave a link far outside what one
+/// linear solve followed (`docs/model.md` §12, "The longest step"): 2.5 mm lattices run away
+/// on landing at 1.4–2.8 spacings a step, and come through at 0.7.
+pub const LONG_STRIDE: f64 = 0.5;
 
 /// Link strain beyond which a run has diverged: no woven fabric survives 50 % stretch, and a
 /// link shortened by half has folded through its neighbour.

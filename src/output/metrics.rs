@@ -72,6 +72,10 @@ pub struct Metrics {
     /// Largest link strain at any step (dimensionless).
     #[serde(deserialize_with = "null_as_nan")]
     pub peak_strain: f64,
+    /// Steps after which the strain limit moved nodes (`docs/model.md` §12, "The longest
+    /// step"): a step long for the lattice. 0 at the shipped scenes' steps.
+    #[serde(default)]
+    pub strain_limited_steps: u64,
     /// Height of the lowest node centre at the end (m).
     #[serde(deserialize_with = "null_as_nan")]
     pub min_height_m: f64,

@@ -323,6 +323,7 @@ fn run_metrics(
         settle_restarts: settle.restarts,
         max_strain: motion.max_strain,
         peak_strain: motion.peak_strain,
+        strain_limited_steps: motion.strain_limited_steps,
         min_height_m: if motion.min_height.is_finite() {
             motion.min_height
         } else {

@@ -221,6 +221,13 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.window_speed_m_per_s
             .map_or("-".to_string(), |v| format!("{:.2} mm/s", v * 1e3))
     );
+    if m.strain_limited_steps > 0 {
+        s += &format!(
+            "  the strain limit shortened links after {} steps: the step is long for this lattice, \
+             and a shorter one drapes without it (docs/model.md §12, \"The longest step\")\n",
+            m.strain_limited_steps
+        );
+    }
     s += &format!(
         "  deepest node inside a collider: {:.2} mm now, {:.2} mm at the worst step\n",
         m.max_penetration_m * 1e3,
@@ -343,21 +350,20 @@ fn scene_fabric_sheet(scene: &Scene) -> Option<String> {
 /// view (from `seed-0/`), and the fabric.
 pub fn write_repeat_report(repeats: &crate::repeat::Repeats, dir: &Path) -> Result<(), OutputError> {
     let (scene, runs, summary) = (&repeats.scene, &repeats.runs, &repeats.summary);
-    let dc = match (summary.dc_mean, summary.dc_std) {
-        (Some(m), Some(s)) => format!("{m:.3} ± {s:.3} (mean ± sample standard deviation)"),
-        _ => "-".into(),
-    };
-    let figures = vec![
+    let mut figures = vec![
         (
             "runs".to_string(),
             format!("{}, {} settled", summary.runs, summary.settled),
         ),
-        ("drape coefficient DC".to_string(), dc),
         (
-            "nodes (folds), modal".to_string(),
-            summary.modal_nodes.map_or("-".into(), |n| n.to_string()),
+            "drape coefficient DC: mean ± sample standard deviation".to_string(),
+            summary.dc_text(),
         ),
+        ("nodes (folds)".to_string(), summary.node_counts_text()),
     ];
+    if let Some(by_count) = summary.dc_by_node_count_text() {
+        figures.push(("DC by node count".to_string(), by_count));
+    }
     let rows = runs
         .iter()
         .map(|(k, m)| {

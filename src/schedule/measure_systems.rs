@@ -24,20 +24,30 @@ pub fn read_body_loads(
 
 /// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
 pub fn measure_motion(
-    physics: Res<Physics>,
+    mut physics: ResMut<Physics>,
     clock: Res<Clock>,
     mut motion: ResMut<Motion>,
     mut failure: ResMut<Failure>,
     mut colliders: Option<ResMut<WorldColliders>>,
     moving: Option<Res<MovingColliders>>,
-    mut cloths: Query<(&ClothNodes, &mut ClothState, Has<Implicit>)>,
+    mut cloths: Query<(&ClothNodes, &mut ClothState, Option<&Implicit>)>,
 ) {
-    for (nodes, mut state, implicit) in &mut cloths {
+    for (nodes, mut state, solver) in &mut cloths {
+        let implicit = solver.is_some();
         let state = &mut *state;
         std::mem::swap(&mut state.positions, &mut state.previous_positions);
         nodes
             .0
             .read(&physics.0, &mut state.positions, &mut state.velocities);
+        // An implicit cloth's links are held within the strain limit (implicit/strain_limit.rs).
+        let limited = solver.map_or(0, |solver| {
+            nodes.0.limit_strain(
+                &mut physics.0,
+                (&state.topology, solver.0.held()),
+                &mut state.positions,
+                &mut state.velocities,
+            )
+        });
         if let Some(i) = non_finite_state(&state.positions, &state.velocities) {
             failure.0 = Some(SimulationFailure {
                 step: clock.step,
@@ -49,6 +59,7 @@ pub fn measure_motion(
             return;
         }
         let (peak, peak_penetration) = (motion.peak_strain, motion.peak_penetration);
+        let limited_steps = motion.strain_limited_steps + u64::from(limited > 0);
         let now = Motion::of(
             &state.topology,
             &nodes.0.masses,
@@ -62,12 +73,18 @@ pub fn measure_motion(
                 particle: now.fastest_node,
                 // The run loop names the effect pushing hardest on this node.
                 effect: String::from("(runaway)"),
-                message: runaway_message(&now, implicit, !nodes.0.joints.is_empty(), clock.dt),
+                message: runaway_message(
+                    &now,
+                    implicit,
+                    !nodes.0.joints.is_empty(),
+                    (clock.dt, state.topology.spacing),
+                ),
             });
             return;
         }
         *motion = now;
         motion.peak_strain = peak.max(motion.max_strain);
+        motion.strain_limited_steps = limited_steps;
         if let (Some(colliders), Some(moving)) = (colliders.as_mut(), moving.as_ref()) {
             for &(k, body) in &moving.0 {
                 if let (Some(b), Some(entry)) = (physics.0.bodies.get(body), colliders.0.get_mut(k)) {

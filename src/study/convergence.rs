@@ -14,6 +14,7 @@ use super::richardson::{Extrapolation, extrapolate_means};
 use super::{aggregate, placed_runs};
 use crate::batch::{self, BatchError, Manifest, load_results};
 use crate::output::Metrics;
+use crate::repeat::{NodeCountGroup, summarise_metrics};
 use crate::scene::{ClothShape, IntegratorSpec, Scene, SceneError};
 
 /// What a convergence study runs.
@@ -39,6 +40,8 @@ pub struct ConvergenceRow {
     pub metrics: Metrics,
     /// Sample standard deviation of DC over the placements (0 for one run).
     pub dc_std: Option<f64>,
+    /// The node counts the placements formed, most frequent first, each with its DC.
+    pub node_counts: Vec<NodeCountGroup>,
 }
 
 /// A finished convergence study.
@@ -256,6 +259,7 @@ pub fn collect_convergence(
                 dt_s: *dt,
                 metrics,
                 dc_std,
+                node_counts: summarise_metrics(runs).node_counts,
             }
         })
         .collect();

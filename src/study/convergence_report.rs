@@ -72,15 +72,25 @@ pub fn extrapolation_line(c: &Convergence) -> String {
     )
 }
 
+/// A row's node counts with their runs, most frequent first: "9 ×3, 8 ×1" (`sep` ", ",
+/// `times` " ×"), or "9:3;8:1" for the CSV.
+fn node_counts_cell(r: &ConvergenceRow, sep: &str, times: &str) -> String {
+    r.node_counts
+        .iter()
+        .map(|g| format!("{}{times}{}", g.nodes, g.runs))
+        .collect::<Vec<_>>()
+        .join(sep)
+}
+
 fn csv_text(c: &Convergence) -> String {
     let mut s = String::from(
-        "spacing_m,dt_s,particles,drape_coefficient,dc_std,nodes,hang_corners_m,skirt_folds,cantilever_chord_deg,cantilever_exact_deg,settled,wall_time_s,failed\n",
+        "spacing_m,dt_s,particles,drape_coefficient,dc_std,nodes,hang_corners_m,skirt_folds,cantilever_chord_deg,cantilever_exact_deg,settled,wall_time_s,failed,node_counts\n",
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
     for r in &c.rows {
         let m = &r.metrics;
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             r.spacing_m,
             r.dt_s,
             m.particles,
@@ -93,7 +103,8 @@ fn csv_text(c: &Convergence) -> String {
             opt(m.cantilever_exact_deg),
             m.settled,
             m.wall_time_s,
-            m.failure.is_some()
+            m.failure.is_some(),
+            node_counts_cell(r, ";", ":")
         );
     }
     s
@@ -104,7 +115,7 @@ fn markdown(c: &Convergence) -> String {
         "# Convergence of `{}` in the node spacing\n\n{} run(s) per spacing; step ∝ σ^{}.\n\n",
         c.scene, c.placements, c.step_exponent
     );
-    s += "| spacing (mm) | step (ms) | particles | DC | nodes | corner hang (mm) | folds | cantilever chord (exact) | settled | wall (s) |\n";
+    s += "| spacing (mm) | step (ms) | particles | DC | nodes (× runs, where they differ) | corner hang (mm) | folds | cantilever chord (exact) | settled | wall (s) |\n";
     s += "|---|---|---|---|---|---|---|---|---|---|\n";
     for r in &c.rows {
         let m = &r.metrics;
@@ -118,7 +129,11 @@ fn markdown(c: &Convergence) -> String {
             r.spacing_m * 1e3,
             r.dt_s * 1e3,
             m.particles,
-            m.nodes.map_or("–".to_string(), |n| n.to_string()),
+            if r.node_counts.len() > 1 {
+                node_counts_cell(r, ", ", " ×")
+            } else {
+                m.nodes.map_or("–".to_string(), |n| n.to_string())
+            },
             m.hang_corners_m
                 .map_or("–".to_string(), |h| format!("{:.1}", h * 1e3)),
             m.skirt_folds.map_or("–".to_string(), |n| n.to_string()),

@@ -279,15 +279,17 @@ fn print_repeats(r: &Repeats) {
         );
     }
     let s = &r.summary;
-    let modal = s.modal_nodes.map_or("-".into(), |v| v.to_string());
-    let dc = match (s.dc_mean, s.dc_std) {
-        (Some(m), Some(sd)) => format!("{m:.3} ± {sd:.3}"),
-        _ => "-".into(),
-    };
     println!(
-        "{}: {} runs, {} settled; modal nodes {modal}, DC {dc}",
-        r.scene.spec.name, s.runs, s.settled
+        "{}: {} runs, {} settled; nodes {}; DC {}",
+        r.scene.spec.name,
+        s.runs,
+        s.settled,
+        s.node_counts_text(),
+        s.dc_text()
     );
+    if let Some(by_count) = s.dc_by_node_count_text() {
+        println!("  DC by node count: {by_count}");
+    }
 }
 
 /// A progress bar over `runs` runs of a batch (study, convergence).

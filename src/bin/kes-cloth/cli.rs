@@ -61,8 +61,10 @@ pub struct RunArgs {
     #[arg(long)]
     pub quiet: bool,
     /// Repeat the run with seeds 0..N-1 of the start roughness (on all cores), write
-    /// each into DIR/seed-K/, and report the modal node count and the mean and spread of DC
-    /// (DIR/repeat.json, DIR/report.html). The runs are a batch (DIR/tasks/, DIR/results/), as
+    /// each into DIR/seed-K/, and report the node counts the runs formed (most frequent first,
+    /// each with its DC: a drape near a change of shape forms more than one) and DC's mean,
+    /// sample standard deviation and the mean's standard error (DIR/repeat.json,
+    /// DIR/report.html). The runs are a batch (DIR/tasks/, DIR/results/), as
     /// `study`'s are.
     #[arg(long, value_name = "N")]
     pub repeat: Option<usize>,

@@ -161,6 +161,11 @@ impl ImplicitSolver {
         }
     }
 
+    /// Which nodes [`Self::hold`] holds in place, in particle order.
+    pub fn held(&self) -> &[bool] {
+        &self.held
+    }
+
     /// Applies the supports' Coulomb friction inside the solve. Each supported node starts the
     /// step held (its tangential velocity stopped); a hold whose tangential impulse exceeds μ
     /// times its normal impulse is released, and the node slides against a kinetic friction
