@@ -53,7 +53,7 @@ pub struct ClothBodies {
     pub moving_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
     /// Nodes pinned to a dynamic body: (node, body, anchor in the body's frame, m). The
     /// implicit solve moves each with its body, which shares its mass with them
-    /// ([`Self::read_body_shares`]).
+    /// ([`Self::read_carriers`]).
     pub dynamic_pins: Vec<(usize, RigidBodyHandle, glam::Vec3)>,
     /// [`NodeOptions::surface_depth`] (m).
     pub surface_depth: f64,
@@ -170,11 +170,10 @@ impl ClothBodies {
     }
 
     /// Applies the strain limit ([`crate::implicit::limit_strain`]) to the state Rapier's step
-    /// left, `positions` (m) and `velocities` (m/s) as just read: if a
-    /// link of `topology` is outside the limit, moves the nodes (those `held` and those on a
-    /// host's dynamic body stay) and
-    /// writes the moved ones back into Rapier. Returns how many nodes it moved (0: nothing
-    /// changed, the usual case).
+    /// left, `positions` (m) and `velocities` (m/s) as just read: if a link of `topology` is
+    /// outside the limit, moves the nodes (those `held` and those on a host's dynamic body stay)
+    /// and writes the moved ones back into Rapier. Returns how many nodes it moved (0: nothing
+    /// changed, the usual case). A cloth held by rope joints is left to them.
     pub fn limit_strain(
         &self,
         world: &mut PhysicsWorld,

@@ -22,7 +22,9 @@ pub fn read_body_loads(
     }
 }
 
-/// Phase 4: reads the stepped state, stops on a non-finite value, updates [`Motion`].
+/// Phase 4: reads the stepped state, brings an implicit cloth's links within the strain limit
+/// (a last resort, [`crate::implicit::limit_strain`]), stops on a non-finite value or a
+/// runaway, updates [`Motion`].
 pub fn measure_motion(
     mut physics: ResMut<Physics>,
     clock: Res<Clock>,

@@ -13,8 +13,10 @@
 //!    ([`HostContacts`]) first takes the host's bodies' pushes of the last step.
 //! 3. [`Phase::Step`]: Rapier's step (gravity, joints, contact, friction; with
 //!    [`crate::bodies::SheetContacts`] when a cloth carries [`HostContacts`]).
-//! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, the finite-value
-//!    guard, motion statistics, the host's bodies' pushes on the nodes, the settle criterion.
+//! 4. [`Phase::Measure`]: read node positions and velocities out of Rapier, hold an implicit
+//!    cloth's links within the strain limit (a last resort for a step too long for the
+//!    lattice, [`crate::implicit::limit_strain`]), the finite-value and runaway guards,
+//!    motion statistics, the host's bodies' pushes on the nodes, the settle criterion.
 //! 5. [`Phase::Output`]: progress reporting (only when a [`Progress`] resource exists).
 //!
 //! Systems run on a single thread in this order, with ambiguity detection set to error: two
