@@ -8,6 +8,7 @@
 //! and the confirmation on a tablecloth at a short step.
 
 use kes_cloth::repeat::simulate_all;
+use kes_cloth::run::summary;
 use kes_cloth::scene::Scene;
 
 mod common;
@@ -99,22 +100,39 @@ fn check_says_where_the_rest_step_applies() {
 /// (at 5 mm, 15.5 mm/s and the corners 2.8 mm above their rest); with it, the corners hang
 /// where the shipped step leaves them. Tolerance 0.5 mm: at 3.33 mm the three steps 1/240,
 /// 1/480 and 1/960 s come to rest within 0.5 mm of each other (85.0 / 85.1 / 85.5 mm,
-/// `docs/accuracy.md`, "The step"); measured here 90.2 and 90.4 mm.
+/// `docs/accuracy.md`, "The step"); measured here 90.2 and 90.4 mm. The run without the watch
+/// still stops on the flicker, and its printed summary says so.
 #[test]
 fn a_tablecloth_at_a_short_step_is_not_called_at_rest_while_a_node_still_flickers() {
-    let load = |dt: &str| {
-        let sets = [
+    let load = |dt: &str, watch: bool| {
+        let mut sets = vec![
             "cloth.spacing_m=0.01".to_string(),
             format!("integration.dt_s={dt}"),
         ];
+        if !watch {
+            sets.push("integration.settle.confirm_s=0".to_string());
+            sets.push("integration.rest_dt_s=0".to_string());
+        }
         Scene::load(common::crate_path("scenes/tablecloth_cotton.ron"), &sets).unwrap()
     };
-    let scenes = [load("0.0041666667"), load("0.00104166667")];
+    let scenes = [
+        load("0.00104166667", false),
+        load("0.0041666667", true),
+        load("0.00104166667", true),
+    ];
     let runs = simulate_all(&scenes, 2, |_, _| {});
-    let (shipped, short) = (&runs[0].metrics, &runs[1].metrics);
-    for m in [shipped, short] {
+    let (unwatched, shipped, short) = (&runs[0], &runs[1].metrics, &runs[2].metrics);
+    for m in [&unwatched.metrics, shipped, short] {
         assert!(m.settled && m.failure.is_none(), "{m:?}");
     }
+    let flicker = unwatched.metrics.max_step_speed_m_per_s;
+    assert!(flicker > 1e-3, "no flicker without the watch: {flicker} m/s");
+    assert!(
+        summary(unwatched).contains("warning: called at rest while a node moved"),
+        "{}",
+        summary(unwatched)
+    );
+    assert!(!summary(&runs[2]).contains("warning"), "{}", summary(&runs[2]));
     let (a, b) = (shipped.hang_corners_m.unwrap(), short.hang_corners_m.unwrap());
     println!(
         "corners {:.2} / {:.2} mm at 1/240 / 1/960 s; last step's fastest node {:.3} mm/s",

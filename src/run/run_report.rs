@@ -171,6 +171,12 @@ fn write_report(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), O
     .write(dir)
 }
 
+/// Fastest a node of a cloth at rest moves over a step (m/s), from its positions: settled
+/// shipped drapes measure 0.01–0.3 mm/s, and `tests/shipped_scenes.rs` holds them below this.
+/// A quiet window measures each node's travel over the window, so it can close on a node that
+/// flickers in place at several mm/s; the summary warns when it did.
+const AT_REST_STEP_SPEED_M_PER_S: f64 = 1e-3;
+
 /// The short summary printed after a run.
 pub fn summary(outcome: &RunOutcome) -> String {
     let m = &outcome.metrics;
@@ -221,6 +227,16 @@ pub fn summary(outcome: &RunOutcome) -> String {
         m.window_speed_m_per_s
             .map_or("-".to_string(), |v| format!("{:.2} mm/s", v * 1e3))
     );
+    if m.settled && m.max_step_speed_m_per_s > AT_REST_STEP_SPEED_M_PER_S {
+        s += &format!(
+            "  warning: called at rest while a node moved {:.2} mm/s over the last step, where a cloth \
+             at rest keeps below {:.0} mm/s: it may still be flickering in place; a confirmation \
+             watch (`integration.settle.confirm_s`, 2 s in the shipped scenes) waits that out \
+             (docs/model.md §1, \"Rest\")\n",
+            m.max_step_speed_m_per_s * 1e3,
+            AT_REST_STEP_SPEED_M_PER_S * 1e3
+        );
+    }
     if m.strain_limited_steps > 0 {
         s += &format!(
             "  the strain limit shortened links after {} steps: the step is long for this lattice, \
