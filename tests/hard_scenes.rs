@@ -12,7 +12,7 @@ use bevy_ecs::prelude::*;
 use kes_cloth::forces::ClothGeometry;
 use kes_cloth::material::STANDARD_GRAVITY;
 use kes_cloth::repeat::simulate_all;
-use kes_cloth::run::{RunOptions, simulate};
+use kes_cloth::run::{AT_REST_STEP_SPEED_M_PER_S, RunOptions, simulate};
 use kes_cloth::scene::Scene;
 use kes_cloth::scene::spawn::spawn;
 use kes_cloth::schedule::{ClothEffects, ClothState, Failure, build_step_schedule};
@@ -97,7 +97,7 @@ fn hard_scenes_stay_finite_out_of_the_colliders_and_come_to_rest() {
         // (`tests/shipped_scenes.rs`). Without their 2 s watch the folded cloth and the thin
         // fine drape stopped with a node at 27 and 6 mm/s.
         assert!(
-            m.max_step_speed_m_per_s < 1e-3,
+            m.max_step_speed_m_per_s < AT_REST_STEP_SPEED_M_PER_S,
             "{name}: a node moved {:.2} mm/s over the last step",
             m.max_step_speed_m_per_s * 1e3
         );

@@ -8,7 +8,7 @@
 //! and the confirmation on a tablecloth at a short step.
 
 use kes_cloth::repeat::simulate_all;
-use kes_cloth::run::summary;
+use kes_cloth::run::{AT_REST_STEP_SPEED_M_PER_S, summary};
 use kes_cloth::scene::Scene;
 
 mod common;
@@ -126,7 +126,10 @@ fn a_tablecloth_at_a_short_step_is_not_called_at_rest_while_a_node_still_flicker
         assert!(m.settled && m.failure.is_none(), "{m:?}");
     }
     let flicker = unwatched.metrics.max_step_speed_m_per_s;
-    assert!(flicker > 1e-3, "no flicker without the watch: {flicker} m/s");
+    assert!(
+        flicker > AT_REST_STEP_SPEED_M_PER_S,
+        "no flicker without the watch: {flicker} m/s"
+    );
     assert!(
         summary(unwatched).contains("warning: called at rest while a node moved"),
         "{}",
@@ -141,7 +144,7 @@ fn a_tablecloth_at_a_short_step_is_not_called_at_rest_while_a_node_still_flicker
         short.max_step_speed_m_per_s * 1e3
     );
     assert!(
-        short.max_step_speed_m_per_s < 1e-3,
+        short.max_step_speed_m_per_s < AT_REST_STEP_SPEED_M_PER_S,
         "called at rest with a node moving {:.2} mm/s over the last step",
         short.max_step_speed_m_per_s * 1e3
     );

@@ -274,7 +274,7 @@ const CREEP_BOUND: f64 = 0.5e-3;
 const PENETRATION_BOUND: f64 = 0.5e-3;
 /// Fastest a node may move over the last step once settled (m/s): "no jitter", the implicit
 /// bound kes-cloth promises for a cloth at rest; these scenes measure 0.11–0.15 mm/s.
-const JITTER_BOUND: f64 = 1e-3;
+const JITTER_BOUND: f64 = kes_cloth::run::AT_REST_STEP_SPEED_M_PER_S;
 
 /// Every shipped scene's run, at every placement the pool runs, leaves its links within the
 /// strain limit without it (the limit is for steps long for the lattice, `docs/model.md` §12,

@@ -18,7 +18,7 @@ pub use declared_measures::{CantileverBend, Measured, TableHang, declared_disk, 
 pub use error_estimate::{
     ASSUMED_ORDER, ErrorEstimate, Estimated, companion_ratio, companion_scene, measures_something,
 };
-pub use run_report::{summary, write_outputs, write_repeat_report};
+pub use run_report::{AT_REST_STEP_SPEED_M_PER_S, summary, write_outputs, write_repeat_report};
 
 use crate::checkpoint::{CheckpointError, Snapshot};
 use crate::forces::ClothTopology;

@@ -175,7 +175,7 @@ fn write_report(scene: &Scene, outcome: &RunOutcome, dir: &Path) -> Result<(), O
 /// shipped drapes measure 0.01–0.3 mm/s, and `tests/shipped_scenes.rs` holds them below this.
 /// A quiet window measures each node's travel over the window, so it can close on a node that
 /// flickers in place at several mm/s; the summary warns when it did.
-const AT_REST_STEP_SPEED_M_PER_S: f64 = 1e-3;
+pub const AT_REST_STEP_SPEED_M_PER_S: f64 = 1e-3;
 
 /// The short summary printed after a run.
 pub fn summary(outcome: &RunOutcome) -> String {
